@@ -1,0 +1,74 @@
+#pragma once
+/// \file decomposition.hpp
+/// \brief Cartesian block decomposition of a global cell grid over MPI ranks.
+#include <mpi.h>
+
+#include <array>
+
+#include "core/types.hpp"
+
+namespace biota::grid {
+
+using core::Index3;
+
+/// \brief Half-open box of global cell indices [lo, hi).
+struct Box {
+  Index3 lo, hi;
+  Index3 extent() const { return {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}; }
+  bool contains(const Index3& c) const {
+    return c.x >= lo.x && c.x < hi.x && c.y >= lo.y && c.y < hi.y && c.z >= lo.z && c.z < hi.z;
+  }
+};
+
+/// \brief Split `n` cells into `parts` blocks; the first n % parts blocks get one extra cell.
+/// Returns the first cell of block `index` (index == parts gives n).
+constexpr int block_start(int n, int parts, int index) {
+  const int base = n / parts, rem = n % parts;
+  return index * base + (index < rem ? index : rem);
+}
+
+/// \brief The rank grid (MPI_Cart_create) and this rank's block of a global cell grid.
+///
+/// Cells are the unit: a grid of `global_cells` cells of size `dx`, origin at 0. Uneven splits are
+/// allowed (100 cells on 3 ranks gives 34, 33, 33).
+class Decomposition {
+ public:
+  /// \param dims rank grid; zeros are filled by MPI_Dims_create.
+  Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
+                Index3 dims = {0, 0, 0});
+  ~Decomposition();
+  Decomposition(const Decomposition&) = delete;
+  Decomposition& operator=(const Decomposition&) = delete;
+
+  MPI_Comm comm() const { return cart_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  const Index3& dims() const { return dims_; }
+  const Index3& coords() const { return coords_; }
+  const Index3& global_cells() const { return global_; }
+  bool periodic(int d) const { return periodic_[d]; }
+  const std::array<bool, 3>& periodic() const { return periodic_; }
+  /// \brief This rank's interior cells.
+  const Box& local_box() const { return box_; }
+  Index3 local_cells() const { return box_.extent(); }
+  /// \brief Box of the rank at Cartesian coordinates `c`.
+  Box box_of(const Index3& c) const;
+  /// \brief Neighbour rank across face (d, side), side 0 = low, 1 = high; MPI_PROC_NULL at a wall.
+  int neighbor(int d, int side) const { return neighbors_[d][side]; }
+  /// \brief Rank owning global cell `c` (wrapped on periodic axes).
+  int owner_of_cell(Index3 c) const;
+  /// \brief Rank owning the point `p` given in cell units (cell i spans [i, i+1)).
+  int owner_of_point(const core::Vec3& p) const;
+  /// \brief Wrap a global cell index into [0, N) on periodic axes.
+  Index3 wrap(Index3 c) const;
+
+ private:
+  MPI_Comm cart_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1;
+  Index3 global_, dims_, coords_;
+  std::array<bool, 3> periodic_;
+  Box box_;
+  std::array<std::array<int, 2>, 3> neighbors_{};
+};
+
+}  // namespace biota::grid

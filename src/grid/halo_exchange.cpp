@@ -1,0 +1,135 @@
+#include "grid/halo_exchange.hpp"
+
+namespace biota::grid {
+
+FaceComponents all_components(int ncomp) {
+  FaceComponents f;
+  std::vector<int> all(ncomp);
+  for (int c = 0; c < ncomp; ++c) all[c] = c;
+  for (auto& axis : f) axis = {all, all};
+  return f;
+}
+
+void HaloExchange::pass_range(int pass_axis, int a, int& lo, int& hi) const {
+  const int g = field_->ghosts(), n = field_->cells()[a];
+  if (a < pass_axis) {  // already exchanged: include its ghosts
+    lo = -g;
+    hi = n + g;
+  } else {
+    lo = 0;
+    hi = n;
+  }
+}
+
+template <class F>
+void HaloExchange::for_slab(int axis, int start, const std::vector<int>& comps, F&& f) {
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) pass_range(axis, a, lo[a], hi[a]);
+  lo[axis] = start;
+  hi[axis] = start + field_->ghosts();
+  for (int c : comps) {
+    core::Real* base = field_->component(c);
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j) {
+        core::Real* row = base + field_->index(0, j, k);
+        for (int i = lo[0]; i < hi[0]; ++i) f(row[i]);
+      }
+  }
+}
+
+HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field,
+                           FaceComponents faces)
+    : decomp_(decomp), field_(&field), faces_(std::move(faces)) {
+  const int g = field.ghosts();
+  for (int axis = 0; axis < 3; ++axis) {
+    Pass& p = passes_[axis];
+    long long layer = g;
+    for (int a = 0; a < 3; ++a) {
+      if (a == axis) continue;
+      int lo, hi;
+      pass_range(axis, a, lo, hi);
+      layer *= (hi - lo);
+    }
+    for (int side = 0; side < 2; ++side) {
+      // Ghosts at my side `side` are filled from the neighbour there with the components listed
+      // for that side; what I send across side s feeds the neighbour's ghosts at side 1-s.
+      p.recv[side].resize(layer * faces_[axis][side].size());
+      p.send[side].resize(layer * faces_[axis][1 - side].size());
+      p.rsend[side].resize(layer * field.ncomp());
+      p.rrecv[side].resize(layer * field.ncomp());
+    }
+    const int tag = 100 + axis * 4;
+    MPI_Comm comm = decomp.comm();
+    for (int side = 0; side < 2; ++side) {
+      int nb = decomp.neighbor(axis, side);
+      MPI_Recv_init(p.recv[side].data(), static_cast<int>(p.recv[side].size()), MPI_DOUBLE, nb,
+                    tag + (1 - side), comm, &p.requests[side]);
+      MPI_Send_init(p.send[side].data(), static_cast<int>(p.send[side].size()), MPI_DOUBLE, nb,
+                    tag + side, comm, &p.requests[2 + side]);
+      MPI_Recv_init(p.rrecv[side].data(), static_cast<int>(p.rrecv[side].size()), MPI_DOUBLE, nb,
+                    tag + 2 + (1 - side), comm, &p.rrequests[side]);
+      MPI_Send_init(p.rsend[side].data(), static_cast<int>(p.rsend[side].size()), MPI_DOUBLE, nb,
+                    tag + 2 + side, comm, &p.rrequests[2 + side]);
+    }
+  }
+}
+
+HaloExchange::~HaloExchange() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized) return;
+  for (auto& p : passes_)
+    for (auto* reqs : {&p.requests, &p.rrequests})
+      for (auto& r : *reqs)
+        if (r != MPI_REQUEST_NULL) MPI_Request_free(&r);
+}
+
+void HaloExchange::exchange() {
+  const int g = field_->ghosts();
+  for (int axis = 0; axis < 3; ++axis) {
+    Pass& p = passes_[axis];
+    const int n = field_->cells()[axis];
+    MPI_Startall(2, p.requests.data());
+    for (int side = 0; side < 2; ++side) {
+      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+      core::Real* out = p.send[side].data();
+      for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
+               [&](core::Real& v) { *out++ = v; });
+    }
+    MPI_Startall(2, p.requests.data() + 2);
+    MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
+    for (int side = 0; side < 2; ++side) {
+      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+      const core::Real* in = p.recv[side].data();
+      for_slab(axis, side == 0 ? -g : n, faces_[axis][side], [&](core::Real& v) { v = *in++; });
+    }
+  }
+}
+
+void HaloExchange::reverse_sum() {
+  const int g = field_->ghosts();
+  std::vector<int> all(field_->ncomp());
+  for (int c = 0; c < field_->ncomp(); ++c) all[c] = c;
+  for (int axis = 2; axis >= 0; --axis) {
+    Pass& p = passes_[axis];
+    const int n = field_->cells()[axis];
+    MPI_Startall(2, p.rrequests.data());
+    for (int side = 0; side < 2; ++side) {
+      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+      core::Real* out = p.rsend[side].data();
+      for_slab(axis, side == 0 ? -g : n, all, [&](core::Real& v) {
+        *out++ = v;
+        v = 0;
+      });
+    }
+    MPI_Startall(2, p.rrequests.data() + 2);
+    MPI_Waitall(4, p.rrequests.data(), MPI_STATUSES_IGNORE);
+    for (int side = 0; side < 2; ++side) {
+      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+      const core::Real* in = p.rrecv[side].data();
+      for_slab(axis, side == 0 ? 0 : n - g, all, [&](core::Real& v) { v += *in++; });
+    }
+  }
+}
+
+}  // namespace biota::grid

@@ -1,0 +1,64 @@
+#pragma once
+/// \file halo_exchange.hpp
+/// \brief Ghost-layer exchange of a Field with persistent MPI requests.
+///
+/// Three passes, x then y then z; each later pass also carries the ghost cells filled by the earlier
+/// ones, so edges and corners are correct with 6 messages. Which components cross each face is
+/// configurable: the LBM sends only the populations that stream into the neighbour.
+#include <mpi.h>
+
+#include <array>
+#include <vector>
+
+#include "grid/decomposition.hpp"
+#include "grid/field.hpp"
+
+namespace biota::grid {
+
+/// \brief Components to fill, per ghost side: [axis][0 = low ghosts, 1 = high ghosts].
+using FaceComponents = std::array<std::array<std::vector<int>, 2>, 3>;
+
+/// \brief All components on every face.
+FaceComponents all_components(int ncomp);
+
+/// \brief Fills the ghost layers of one field from its neighbours (and periodic images).
+class HaloExchange {
+ public:
+  HaloExchange(const Decomposition& decomp, Field<core::Real>& field, FaceComponents faces);
+  HaloExchange(const Decomposition& decomp, Field<core::Real>& field)
+      : HaloExchange(decomp, field, all_components(field.ncomp())) {}
+  ~HaloExchange();
+  HaloExchange(const HaloExchange&) = delete;
+  HaloExchange& operator=(const HaloExchange&) = delete;
+
+  /// \brief Copy owned boundary layers into the neighbours' ghost layers.
+  void exchange();
+  /// \brief The reverse: add every ghost layer into the owner's cells, then zero the ghosts.
+  /// Used when particles spread forces into ghost cells (z, then y, then x pass).
+  void reverse_sum();
+  /// \brief Point at another field of the same shape (e.g. after swapping LBM buffers).
+  void rebind(Field<core::Real>& field) { field_ = &field; }
+
+ private:
+  struct Pass {
+    // side s: send buffer holds my layer adjacent to face s; recv buffer fills ghosts at side s.
+    std::array<std::vector<core::Real>, 2> send, recv;
+    std::array<MPI_Request, 4> requests{MPI_REQUEST_NULL, MPI_REQUEST_NULL, MPI_REQUEST_NULL,
+                                        MPI_REQUEST_NULL};
+    std::array<std::vector<core::Real>, 2> rsend, rrecv;
+    std::array<MPI_Request, 4> rrequests{MPI_REQUEST_NULL, MPI_REQUEST_NULL, MPI_REQUEST_NULL,
+                                         MPI_REQUEST_NULL};
+  };
+  // Range of local indices a pass covers on axis a (interior for later axes, ghosts for earlier).
+  void pass_range(int pass_axis, int a, int& lo, int& hi) const;
+  // Visit the slab of `width` layers starting at local index `start` on `axis`, in pass order.
+  template <class F>
+  void for_slab(int axis, int start, const std::vector<int>& comps, F&& f);
+
+  const Decomposition& decomp_;
+  Field<core::Real>* field_;
+  FaceComponents faces_;
+  std::array<Pass, 3> passes_;
+};
+
+}  // namespace biota::grid

@@ -1,0 +1,69 @@
+#include <gtest/gtest.h>
+
+#include "core/config.hpp"
+#include "core/error.hpp"
+
+using namespace biota::core;
+
+namespace {
+ConfigSchema make_schema() {
+  ConfigSchema s;
+  s.add_real("lbm.tau", 0.6, 0.5, 2.0, "-", "relaxation time", true);
+  s.add_int("run.steps", std::nullopt, 0, std::nullopt, "number of steps");
+  s.add_string("lbm.lattice", "D3Q19", {"D3Q15", "D3Q19"}, "lattice");
+  s.add_bool("coupling.two_way", true, "two-way coupling");
+  s.add_real_list("jet.center", std::vector<double>{0.5, 0.5}, 2, "m", "jet centre");
+  return s;
+}
+std::string error_of(const std::string& toml, std::vector<std::string> ov = {}) {
+  auto schema = make_schema();
+  try {
+    Config::from_string(schema, toml, "deck.toml", ov);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, DefaultsAndValues) {
+  auto schema = make_schema();
+  auto c = Config::from_string(schema, "run.steps = 10\n[lbm]\ntau = 0.8\n", "deck.toml");
+  EXPECT_EQ(c.get_int("run.steps"), 10);
+  EXPECT_DOUBLE_EQ(c.get_real("lbm.tau"), 0.8);
+  EXPECT_EQ(c.get_string("lbm.lattice"), "D3Q19");
+  EXPECT_TRUE(c.get_bool("coupling.two_way"));
+  EXPECT_EQ(c.get_real_list("jet.center").size(), 2u);
+  EXPECT_NE(c.effective_toml().find("tau = 0.8"), std::string::npos);
+}
+
+TEST(Config, OverridesWin) {
+  auto schema = make_schema();
+  auto c = Config::from_string(schema, "run.steps = 10\n", "deck.toml",
+                               {"run.steps=20", "lbm.lattice=D3Q15", "jet.center=[0.1, 0.2]"});
+  EXPECT_EQ(c.get_int("run.steps"), 20);
+  EXPECT_EQ(c.get_string("lbm.lattice"), "D3Q15");
+  EXPECT_DOUBLE_EQ(c.get_real_list("jet.center")[1], 0.2);
+}
+
+TEST(Config, ErrorsNameFileKeyValueAndRange) {
+  std::string e = error_of("run.steps = 10\nlbm.tau = 0.5\n");
+  EXPECT_NE(e.find("deck.toml"), std::string::npos) << e;
+  EXPECT_NE(e.find("lbm.tau"), std::string::npos) << e;
+  EXPECT_NE(e.find("0.5"), std::string::npos) << e;
+  EXPECT_NE(e.find("(0.5, 2]"), std::string::npos) << e;
+  EXPECT_NE(error_of("run.steps = 10\nlbm.tua = 0.7\n").find("lbm.tua"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = 'ten'\n").find("run.steps"), std::string::npos);
+  EXPECT_NE(error_of("").find("run.steps"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = 1\nlbm.lattice = 'D2Q9'\n").find("D3Q15"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = [\n").find("syntax"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = 1\njet.center = [1.0]\n").find("jet.center"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = 1\n", {"lbm.tau=0.1"}).find("lbm.tau"), std::string::npos);
+  EXPECT_NE(error_of("run.steps = 1\n", {"nokey=1"}).find("nokey"), std::string::npos);
+}
+
+TEST(Config, ReferenceListsEveryKey) {
+  auto md = make_schema().reference_markdown();
+  for (const char* k : {"lbm.tau", "run.steps", "lbm.lattice", "coupling.two_way", "jet.center"})
+    EXPECT_NE(md.find(k), std::string::npos);
+}
