@@ -25,12 +25,17 @@ std::vector<double> midpoint_fbm_1d(int levels, double hurst, double sigma, std:
                                     std::uint64_t series_id);
 
 /// \brief 2D fBm surface on a (2^levels + 1)² square grid by diamond-square midpoint displacement
-/// (Peitgen & Saupe MidPointFM2D, spec 2.6 "2D midpoint displacement (5.2)").
+/// (after Peitgen & Saupe MidPointFM2D, spec 2.6 "2D midpoint displacement (5.2)").
 ///
-/// Corners are σ G. Each stage has two half-steps that shrink the spacing by √2: the square centres
-/// from their 4 diagonal corners, then the edge midpoints from their 4 (3 on the border) axis
-/// neighbours, each plus δ G with δ multiplied by 2^(-H/2) before every half-step, so that the
-/// variance at spacing r scales as r^(2H). Value (i, j) is at index i + (2^levels + 1) * j.
+/// X(0,0) = 0 and the other three corners are drawn jointly with the exact fBm covariance
+/// (variogram V(r) = σ² r^(2H), r in units of the grid side). Each stage has two half-steps that
+/// shrink the spacing by √2: square centres from their 4 diagonal corners, then edge midpoints
+/// from their 4 (3 on the border) axis neighbours, each plus δ G. Deviation from P&S, who scale δ
+/// by 2^(-H/2) per half-step from δ = σ: here δ² = V(t) - mean_j Var[mean - X_j] (t = distance to
+/// the parents), the 2D analogue of the factor (1 - 2^(2H-2)) in eq. 5.1, so each new point has
+/// the fBm variogram to its parents on average. The field is still only approximately fBm (the
+/// structure-function exponent is below 2H for large H, quantified in the tests), as with any
+/// diamond-square scheme. Value (i, j) is at index i + (2^levels + 1) * j.
 /// Use one field per boid parameter and coordinate (distinct field_id), spec ambiguity 11.
 /// \throws std::invalid_argument unless 0 < H < 1 and 0 <= levels <= 15.
 std::vector<double> midpoint_fbm_2d(int levels, double hurst, double sigma, std::uint64_t seed,
