@@ -77,7 +77,8 @@ class Sandpile {
   Sandpile(int lx, int ly, int lz, std::uint64_t seed, int threshold = 5);
 
   /// \brief Drive (eq. 3.1): add one grain at `site` and relax fully (eq. 3.2).
-  /// The toppled sites are then available from last_toppled_sites().
+  /// The toppled sites are then available from last_toppled_sites(). Precondition (unchecked, this
+  /// is the hot path): 0 <= site < num_sites().
   Avalanche add_grain(std::int64_t site, ToppleOrder order = ToppleOrder::kWaves);
 
   /// \brief Add `count` grains at `site` without relaxing (to prepare unstable states).
