@@ -209,3 +209,23 @@ Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seed
 }
 
 }  // namespace biota::models::plants
+
+namespace biota::models::plants {
+std::vector<Vec3> place_seeds(std::uint64_t seed, int n, const Vec3& lo, const Vec3& hi,
+                              Real min_spacing) {
+  std::vector<Vec3> s;
+  for (int j = 0; j < n; ++j) {
+    Vec3 p;
+    for (int attempt = 0;; ++attempt) {
+      core::Rng r(seed, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(attempt),
+                  core::RngPurpose::kPlacement);
+      for (int d = 0; d < 3; ++d) p[d] = r.uniform(lo[d], hi[d]);
+      bool ok = true;
+      for (const Vec3& q : s) ok = ok && core::norm(q - p) >= min_spacing;
+      if (ok || attempt >= 1000) break;  // after 1000 attempts accept (documented fallback)
+    }
+    s.push_back(p);
+  }
+  return s;
+}
+}  // namespace biota::models::plants

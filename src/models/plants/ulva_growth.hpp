@@ -78,3 +78,10 @@ Real environment_factor(const GrowthParams& gp, const Vec3& p);
 Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seeds);
 
 }  // namespace biota::models::plants
+
+namespace biota::models::plants {
+/// \brief Seed positions: uniform in the box [lo, hi) with a minimum spacing, drawn plant by
+/// plant from Philox streams keyed by (seed, plant, attempt); identical on every rank.
+std::vector<Vec3> place_seeds(std::uint64_t seed, int n, const Vec3& lo, const Vec3& hi,
+                              Real min_spacing);
+}  // namespace biota::models::plants
