@@ -14,21 +14,28 @@ using particles::kNoId;
 using particles::ParticleSet;
 
 void MechanicsParams::declare_config(core::ConfigSchema& s) {
-  s.add_real("seaweed.radius", 0.005, 0.0, std::nullopt, "m", "sphere radius (growth points)", true);
-  s.add_real("seaweed.spacing", 0.01, 0.0, std::nullopt, "m", "max sphere spacing along stems", true);
+  s.add_real("seaweed.radius", 0.005, 0.0, std::nullopt, "m", "sphere radius (growth points)",
+             true);
+  s.add_real("seaweed.spacing", 0.01, 0.0, std::nullopt, "m", "max sphere spacing along stems",
+             true);
   s.add_real("seaweed.plant_density", 1200, 0.0, std::nullopt, "kg/m^3", "plant density", true);
-  s.add_real("seaweed.water_density", 998, 0.0, std::nullopt, "kg/m^3", "water density (eq. 9, 10)", true);
+  s.add_real("seaweed.water_density", 998, 0.0, std::nullopt, "kg/m^3", "water density (eq. 9, 10)",
+             true);
   s.add_real("seaweed.gravity", 9.8, 0.0, std::nullopt, "m/s^2", "gravitational acceleration");
   s.add_real("seaweed.drag_cd", 1.0, 0.0, std::nullopt, "-", "drag coefficient C_D (eq. 10)");
-  s.add_real("seaweed.joint.stiffness", 50, 0.0, std::nullopt, "N/m", "stretch spring at the joint anchor", true);
+  s.add_real("seaweed.joint.stiffness", 50, 0.0, std::nullopt, "N/m",
+             "stretch spring at the joint anchor", true);
   s.add_real("seaweed.joint.damping", 0.01, 0.0, std::nullopt, "N s/m", "stretch damper");
-  s.add_real("seaweed.joint.bend_stiffness", 1e-4, 0.0, std::nullopt, "N m/rad", "3-DOF rotational spring");
-  s.add_real("seaweed.joint.bend_damping", 2e-7, 0.0, std::nullopt, "N m s/rad", "rotational damper");
+  s.add_real("seaweed.joint.bend_stiffness", 1e-4, 0.0, std::nullopt, "N m/rad",
+             "3-DOF rotational spring");
+  s.add_real("seaweed.joint.bend_damping", 2e-7, 0.0, std::nullopt, "N m s/rad",
+             "rotational damper");
   s.add_real("seaweed.joint.force_limit", 1000, 0.0, std::nullopt, "N", "F_c of eq. 8", true);
   s.add_real("seaweed.joint.torque_limit", 1000, 0.0, std::nullopt, "N m", "T_c of eq. 8", true);
   s.add_real("seaweed.contact.stiffness", 50, 0.0, std::nullopt, "N/m", "normal contact spring");
   s.add_real("seaweed.contact.damping", 0.01, 0.0, std::nullopt, "N s/m", "normal contact damper");
-  s.add_real("seaweed.contact.friction", 0.5, 0.0, std::nullopt, "-", "Coulomb friction coefficient");
+  s.add_real("seaweed.contact.friction", 0.5, 0.0, std::nullopt, "-",
+             "Coulomb friction coefficient");
   s.add_real("seaweed.contact.tangential_damping", 0.01, 0.0, std::nullopt, "N s/m",
              "viscous tangential friction below the Coulomb cap");
   s.add_real("seaweed.cluster_margin", 0.001, 0.0, std::nullopt, "m", "gap counted as contact");
@@ -63,7 +70,9 @@ MechanicsParams MechanicsParams::from_config(const core::Config& c) {
 Real MechanicsParams::mass() const {
   return plant_density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
 }
-Real MechanicsParams::inertia() const { return 0.4 * mass() * radius * radius; }
+Real MechanicsParams::inertia() const {
+  return 0.4 * mass() * radius * radius;
+}
 Real MechanicsParams::omega_max() const {
   // A sphere in a chain has two joints and at most ~12 contacts; each joint spring also acts on
   // the rotation through the anchor lever r (k r^2 / I = 2.5 k / m).
@@ -140,7 +149,8 @@ void SeaweedBodies::build(const Population& pop, int n_plants) {
       continue;
     }
     const Vec3 a = pop.buds[b.parent].pos, d = b.pos - a;
-    const int segments = std::max(1, static_cast<int>(std::ceil(core::norm(d) / p_.spacing - 1e-9)));
+    const int segments =
+        std::max(1, static_cast<int>(std::ceil(core::norm(d) / p_.spacing - 1e-9)));
     GlobalId prev = bud_sphere[b.parent];
     Vec3 prev_x = a;
     for (int k = 1; k <= segments; ++k) {
@@ -209,7 +219,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const std::size_t no = set_.n_owned();
   const Real m = p_.mass(), V = 4.0 / 3.0 * std::numbers::pi * p_.radius * p_.radius * p_.radius;
   const Real area = std::numbers::pi * p_.radius * p_.radius;
-  const Vec3 weight{0, 0, (p_.water_density - p_.plant_density) * V * p_.gravity};  // eq. 9 + gravity
+  const Vec3 weight{0, 0,
+                    (p_.water_density - p_.plant_density) * V * p_.gravity};  // eq. 9 + gravity
   (void)m;
   // Body forces and drag (eq. 10, relative velocity).
   for (std::size_t i = 0; i < no; ++i) {
@@ -311,8 +322,8 @@ ClusterMetrics SeaweedBodies::clusters() {
   for (auto [i, j] : pairs_) {
     const auto a = set_.u64(u_plant)[i], b = set_.u64(u_plant)[j];
     if (a == b) continue;
-    const Real gap = core::norm(set_.pos(i) - set_.pos(j)) - set_.real(a_radius)[i] -
-                     set_.real(a_radius)[j];
+    const Real gap =
+        core::norm(set_.pos(i) - set_.pos(j)) - set_.real(a_radius)[i] - set_.real(a_radius)[j];
     if (gap > p_.cluster_margin) continue;
     ++contacts;
     local.push_back(std::min(a, b) * static_cast<std::uint64_t>(n_plants_) + std::max(a, b));
@@ -337,7 +348,8 @@ ClusterMetrics SeaweedBodies::clusters() {
     return x;
   };
   for (auto key : all) {
-    const int a = find(static_cast<int>(key / n_plants_)), b = find(static_cast<int>(key % n_plants_));
+    const int a = find(static_cast<int>(key / n_plants_)),
+              b = find(static_cast<int>(key % n_plants_));
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
   std::vector<int> size(n_plants_, 0);

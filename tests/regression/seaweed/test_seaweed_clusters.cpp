@@ -30,7 +30,7 @@ Result run(int cycles, int plants, double seconds) {
   gp.cycles = cycles;
   gp.env_centre = {L / 2, L / 2, L / 2};
   gp.env_radius = 0.2;
-  auto seeds = place_seeds(7, plants, {0.12, 0.12, 0.15}, {0.38, 0.38, 0.35}, 0.1);
+  auto seeds = place_seeds(7, plants, {0.08, 0.08, 0.1}, {0.42, 0.42, 0.4}, 0.12);
   auto pop = grow_population(gp, seeds);
   MechanicsParams mp;
   SeaweedBodies bodies(comm, mp);
@@ -72,11 +72,11 @@ TEST(SeaweedClusters, LargestClusterShareGrowsWithGrowthStage) {
   for (int c : {1, 3, 5}) {
     auto r = run(c, plants, seconds);
     share[c] = r.mean_share;
-    std::printf("cycle %d: spheres %lld, mean largest share %.3f (t0 %.3f, end %.3f), clusters %d->%d, "
-                "contacts %lld->%lld, broken %lld\n",
-                c, r.spheres, r.mean_share, r.first.largest_share, r.last.largest_share,
-                r.first.clusters, r.last.clusters, r.first.contacts, r.last.contacts,
-                r.last.broken_joints);
+    std::printf(
+        "cycle %d: spheres %lld, mean largest share %.3f (t0 %.3f, end %.3f), clusters %d->%d, "
+        "contacts %lld->%lld, broken %lld\n",
+        c, r.spheres, r.mean_share, r.first.largest_share, r.last.largest_share, r.first.clusters,
+        r.last.clusters, r.first.contacts, r.last.contacts, r.last.broken_joints);
   }
   EXPECT_LT(share[1], share[3]);
   EXPECT_LT(share[3], share[5]);
