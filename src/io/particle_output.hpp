@@ -4,7 +4,10 @@
 /// .pvtp, appended to <dir>/<prefix>.pvd) and the particles in an HDF5 file as global datasets
 /// gathered by offsets (exclusive scan), with an XDMF (Polyvertex / Polyline) index beside it.
 ///
-/// INTERFACE ONLY at first: implemented on branch seaweed2 (moved out of seaweed_scenario.cpp).
+/// Files: <dir>/<prefix>_<step>.h5 (+ .xmf), <dir>/vtk/<prefix>_<step>.pvtp (+ one .vtp per
+/// rank), <dir>/<prefix>.pvd. HDF5 layout: /points/{position,id,<scalars>,<vectors>} with the
+/// owned points in rank order; /lines/{position (2 rows per line), connectivity, id (2 per line),
+/// <line scalars>}.
 #include <mpi.h>
 
 #include <array>
@@ -18,9 +21,9 @@ namespace biota::io {
 /// \brief This rank's particles for one output step. Points may include ghost copies when a line
 /// needs both ends; `owned` says how many leading points are owned (only those go to HDF5).
 struct ParticleData {
-  std::vector<double> positions;        ///< 3 per point, SI [m]
-  std::vector<std::uint64_t> ids;       ///< global id per point
-  std::size_t owned = 0;                ///< points [0, owned) are owned by this rank
+  std::vector<double> positions;   ///< 3 per point, SI [m]
+  std::vector<std::uint64_t> ids;  ///< global id per point
+  std::size_t owned = 0;           ///< points [0, owned) are owned by this rank
   std::vector<std::pair<std::string, std::vector<double>>> scalars;  ///< 1 value per point
   std::vector<std::pair<std::string, std::vector<double>>> vectors;  ///< 3 values per point
   std::vector<std::array<std::uint32_t, 2>> lines;  ///< segments between local point indices

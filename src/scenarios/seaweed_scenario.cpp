@@ -4,10 +4,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <unordered_map>
 
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
+#include "io/particle_output.hpp"
 #include "models/plants/ulva_growth.hpp"
 #include "scenarios/lbm_output.hpp"
 
@@ -147,25 +149,20 @@ void SeaweedScenario::write_output() {
                      {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa");
   add_lbm_fields(out, *lbm_);
   out.write();
-  write_particles_vtk();
+  write_particles();
 }
 
-void SeaweedScenario::write_particles_vtk() {
-  // VTK XML PolyData piece per rank: owned spheres as points (radius, plant, joint force/torque,
-  // velocity), joints as lines to the parent (a ghost parent is appended as an extra point).
-  namespace fs = std::filesystem;
-  const std::string dir = ctx_.output_dir + "/vtk";
-  const int rank = decomp_->rank(), P = decomp_->size();
-  if (rank == 0) fs::create_directories(dir);
-  MPI_Barrier(ctx_.comm);
+void SeaweedScenario::write_particles() {
+  // Owned spheres as points (radius, plant, joint force/torque, velocity); each intact joint as a
+  // line from the child to its parent (a ghost parent is appended as an extra point).
   auto& s = bodies_->set();
   const std::size_t no = s.n_owned();
-  std::vector<Vec3> pts;
+  io::ParticleData d;
   std::vector<std::size_t> src;
-  for (std::size_t i = 0; i < no; ++i) pts.push_back(s.pos(i)), src.push_back(i);
+  for (std::size_t i = 0; i < no; ++i) src.push_back(i);
   std::unordered_map<core::GlobalId, std::size_t> local;
   for (std::size_t i = 0; i < s.n_total(); ++i) local.emplace(s.id(i), i);
-  std::vector<std::pair<std::size_t, std::size_t>> lines;
+  std::vector<double> line_force, line_torque;
   for (std::size_t i = 0; i < no; ++i) {
     const auto pid = s.u64(bodies_->u_parent)[i];
     if (pid == particles::kNoId) continue;
@@ -173,63 +170,35 @@ void SeaweedScenario::write_particles_vtk() {
     if (it == local.end()) continue;
     std::size_t j = it->second;
     if (j >= no) {
-      pts.push_back(s.pos(j));
       src.push_back(j);
-      j = pts.size() - 1;
+      j = src.size() - 1;
     }
-    lines.emplace_back(i, j);
+    d.lines.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+    line_force.push_back(s.real(bodies_->a_jforce)[i]);
+    line_torque.push_back(s.real(bodies_->a_jtorque)[i]);
   }
-  const std::string base = fmt::format("seaweed_particles_{:06d}", step_);
-  {
-    std::ofstream f(fmt::format("{}/{}_{}.vtp", dir, base, rank));
-    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\">\n<PolyData>\n";
-    f << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfLines=\"{}\">\n", pts.size(),
-                     lines.size());
-    f << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto& p : pts) f << fmt::format("{} {} {}\n", p.x, p.y, p.z);
-    f << "</DataArray></Points>\n<PointData Scalars=\"radius\">\n";
-    auto scalar = [&](const char* name, auto get) {
-      f << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
-      for (std::size_t k = 0; k < pts.size(); ++k) f << get(src[k]) << "\n";
-      f << "</DataArray>\n";
-    };
-    scalar("radius", [&](std::size_t i) { return s.real(bodies_->a_radius)[i]; });
-    scalar("plant", [&](std::size_t i) { return static_cast<double>(s.u64(bodies_->u_plant)[i]); });
-    scalar("joint_force", [&](std::size_t i) { return s.real(bodies_->a_jforce)[i]; });
-    scalar("joint_torque", [&](std::size_t i) { return s.real(bodies_->a_jtorque)[i]; });
-    scalar("ghost", [&](std::size_t i) { return i >= no ? 1.0 : 0.0; });
-    f << "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-         "format=\"ascii\">\n";
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      const Vec3 v = s.vec3(bodies_->a_vel, src[k]);
-      f << fmt::format("{} {} {}\n", v.x, v.y, v.z);
-    }
-    f << "</DataArray>\n</PointData>\n<Lines>\n"
-         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (auto [a, b] : lines) f << a << " " << b << "\n";
-    f << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (std::size_t k = 0; k < lines.size(); ++k) f << 2 * (k + 1) << "\n";
-    f << "</DataArray>\n</Lines>\n</Piece>\n</PolyData>\n</VTKFile>\n";
+  d.owned = no;
+  std::vector<double> radius, plant, jf, jt, vel;
+  for (std::size_t k : src) {
+    const Vec3 p = s.pos(k), v = s.vec3(bodies_->a_vel, k);
+    d.positions.insert(d.positions.end(), {p.x, p.y, p.z});
+    d.ids.push_back(s.id(k));
+    radius.push_back(s.real(bodies_->a_radius)[k]);
+    plant.push_back(static_cast<double>(s.u64(bodies_->u_plant)[k]));
+    jf.push_back(s.real(bodies_->a_jforce)[k]);
+    jt.push_back(s.real(bodies_->a_jtorque)[k]);
+    vel.insert(vel.end(), {v.x, v.y, v.z});
   }
-  if (rank == 0) {
-    std::ofstream f(fmt::format("{}/{}.pvtp", dir, base));
-    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"0.1\">\n"
-         "<PPolyData GhostLevel=\"0\">\n<PPoints><PDataArray type=\"Float64\" "
-         "NumberOfComponents=\"3\"/></PPoints>\n<PPointData Scalars=\"radius\">\n";
-    for (const char* n : {"radius", "plant", "joint_force", "joint_torque", "ghost"})
-      f << "<PDataArray type=\"Float64\" Name=\"" << n << "\"/>\n";
-    f << "<PDataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"/>\n"
-         "</PPointData>\n";
-    for (int r = 0; r < P; ++r) f << fmt::format("<Piece Source=\"{}_{}.vtp\"/>\n", base, r);
-    f << "</PPolyData>\n</VTKFile>\n";
-    vtk_steps_.emplace_back(step_, time());
-    std::ofstream pvd(ctx_.output_dir + "/seaweed_particles.pvd");
-    pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-    for (auto [st, t] : vtk_steps_)
-      pvd << fmt::format("<DataSet timestep=\"{}\" file=\"vtk/seaweed_particles_{:06d}.pvtp\"/>\n",
-                         t, st);
-    pvd << "</Collection>\n</VTKFile>\n";
-  }
+  d.scalars = {{"radius", std::move(radius)},
+               {"plant", std::move(plant)},
+               {"joint_force", std::move(jf)},
+               {"joint_torque", std::move(jt)}};
+  d.vectors = {{"velocity", std::move(vel)}};
+  d.line_scalars = {{"joint_force", std::move(line_force)},
+                    {"joint_torque", std::move(line_torque)}};
+  io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "seaweed_particles", step_, time(),
+                         ctx_.config.effective_toml());
+  out.write(d);
 }
 
 void SeaweedScenario::write_checkpoint(const std::string& path) {

@@ -35,7 +35,7 @@ class SeaweedScenario : public Scenario {
   std::vector<std::string> timer_sections() const override;
 
  private:
-  void write_particles_vtk();
+  void write_particles();
   void record_metrics();
 
   RunContext ctx_;
@@ -53,7 +53,6 @@ class SeaweedScenario : public Scenario {
   long long step_ = 0;
   models::plants::ClusterMetrics last_{};
   std::ofstream csv_;
-  std::vector<std::pair<long long, double>> vtk_steps_;
   double t_lbm_[3] = {0, 0, 0};
 };
 
