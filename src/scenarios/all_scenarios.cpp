@@ -1,3 +1,4 @@
+#include "scenarios/flock_scenario.hpp"
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
@@ -16,6 +17,13 @@ std::vector<ScenarioInfo> all_scenarios() {
        &SeaweedScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<SeaweedScenario>(c);
+       }},
+      {"flock",
+       "Boids taking off in chaos-game order, schooling, attacked by predators, breaking up in "
+       "3D-sandpile avalanches, with 1/f (fBm) noise",
+       &FlockScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<FlockScenario>(c);
        }},
   };
 }
