@@ -2,9 +2,11 @@
 /// \file ordered_cell_list.hpp
 /// \brief Cell list whose visiting order depends only on positions and global ids, never on the
 /// local storage order or the rank: bins are aligned to a global origin with a global edge, the
-/// 27 bins around a query point are visited in a fixed (dz, dy, dx) order and each bin's points in
-/// ascending global id. Sums over neighbours taken in this order are therefore bitwise identical
-/// on any decomposition (the design's "reductions in a fixed order", per particle).
+/// (2m+1)³ bins around a query point (edge = cutoff / m, m = `reach`) are visited in a fixed
+/// (dz, dy, dx) order and each bin's points in ascending global id. m = 2 visits 15.6 cutoff³
+/// instead of 27 cutoff³ for m = 1, i.e. 1.7× fewer candidates per query. Sums over neighbours
+/// taken in this order are therefore bitwise identical on any decomposition (the design's
+/// "reductions in a fixed order", per particle).
 ///
 /// Positions are also copied in bin order (SoA), so the inner loop streams contiguous memory.
 #include <algorithm>
@@ -21,15 +23,17 @@ namespace biota::particles {
 /// \brief See file comment. Rebuild after every move (build() reuses its allocations).
 class OrderedCellList {
  public:
-  /// \brief Bin points [0, n) (coordinate arrays and global ids) into cubic bins of edge `edge`
-  /// aligned at `origin`: bin index floor((x - origin) / edge) per axis. `edge` must be >= the
-  /// interaction cutoff for for_each_near() to see every partner.
+  /// \brief Bin points [0, n) (coordinate arrays and global ids) into cubic bins of edge
+  /// cutoff / reach aligned at `origin`: bin index floor((x - origin) / edge) per axis.
+  /// for_each_near() then sees every partner within `cutoff`.
   /// \throws std::runtime_error if the points span more than 2^26 bins (a stray particle).
   void build(const core::Real* x, const core::Real* y, const core::Real* z,
-             const core::GlobalId* id, std::size_t n, const core::Vec3& origin, core::Real edge) {
+             const core::GlobalId* id, std::size_t n, const core::Vec3& origin, core::Real cutoff,
+             int reach = 1) {
     n_ = n;
     origin_ = origin;
-    inv_edge_ = 1 / edge;
+    reach_ = reach;
+    inv_edge_ = reach / cutoff;
     bin_.resize(n);
     if (n == 0) {
       head_.assign(2, 0);
@@ -79,19 +83,21 @@ class OrderedCellList {
     }
   }
 
-  /// \brief Call f(k) for every slot k (in bin order; original index = index(k)) in the 27 bins
-  /// around p, in the fixed order described in the file comment. The caller filters by distance.
+  /// \brief Call f(k) for every slot k (in bin order; original index = index(k)) in the (2m+1)³
+  /// bins around p, in the fixed order described in the file comment. The caller filters by
+  /// distance.
   template <class F>
   void for_each_near(const core::Vec3& p, F&& f) const {
     if (n_ == 0) return;
     const long long b0 = axis_bin(0, p.x) - lo_[0], b1 = axis_bin(1, p.y) - lo_[1],
                     b2 = axis_bin(2, p.z) - lo_[2];
-    for (long long cz = b2 - 1; cz <= b2 + 1; ++cz) {
+    const long long m = reach_;
+    for (long long cz = b2 - m; cz <= b2 + m; ++cz) {
       if (cz < 0 || cz >= nb_[2]) continue;
-      for (long long cy = b1 - 1; cy <= b1 + 1; ++cy) {
+      for (long long cy = b1 - m; cy <= b1 + m; ++cy) {
         if (cy < 0 || cy >= nb_[1]) continue;
-        // The three x bins of a row are contiguous: one range.
-        const long long cx0 = std::max(b0 - 1, 0LL), cx1 = std::min(b0 + 1, nb_[0] - 1);
+        // The x bins of a row are contiguous: one range.
+        const long long cx0 = std::max(b0 - m, 0LL), cx1 = std::min(b0 + m, nb_[0] - 1);
         if (cx0 > cx1) continue;
         const std::size_t first = head_[flat(cx0, cy, cz)], last = head_[flat(cx1, cy, cz) + 1];
         for (std::size_t k = first; k < last; ++k) f(k);
@@ -119,6 +125,7 @@ class OrderedCellList {
   std::size_t n_ = 0;
   core::Vec3 origin_{};
   core::Real inv_edge_ = 1;
+  long long reach_ = 1;
   long long lo_[3] = {0, 0, 0}, nb_[3] = {1, 1, 1};
   std::vector<std::size_t> head_, bin_, order_, fill_;
   std::vector<core::Real> sx_, sy_, sz_;

@@ -324,7 +324,7 @@ void FlockScenario::begin_step() {
   cells_.build(set_->real(particles::ParticleSet::kPos, 0),
                set_->real(particles::ParticleSet::kPos, 1),
                set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
-               n, lo_, radius_);
+               n, lo_, radius_, 2);
   svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
   const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
                *vz = set_->real(a_vel_, 2);
@@ -477,12 +477,14 @@ void FlockScenario::step() {
       const double dstar = set_->real(a_dstar_)[i];
       mf::NeighbourSums s;
       cells_.for_each_near(x, [&](std::size_t j) {
-        if (!eligible_[j]) return;
         const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
         const double r2 = core::dot(d, d);
+        if (r2 >= R2 || !eligible_[j]) return;  // most candidates fail the distance test
         if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
         mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
       });
+      neighbour_sum_ += s.count;
+      ++prey_updates_;
       // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
       Vec3 flee{};
       if (step_ >= pred_start_step_ && !preds.empty()) {

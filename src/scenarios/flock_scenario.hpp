@@ -54,6 +54,12 @@ class FlockScenario : public Scenario {
   const models::flock::Sandpile& sandpile() const { return *sandpile_; }
   /// \brief Global number of boids (prey + predators).
   long long global_count() const { return n_prey_ + n_pred_; }
+  /// \brief Mean number of perceived neighbours per prey update since reset (this rank).
+  double mean_neighbours() const {
+    return prey_updates_ ? double(neighbour_sum_) / double(prey_updates_) : 0.0;
+  }
+  /// \brief Restart the neighbour statistics.
+  void reset_neighbour_count() { neighbour_sum_ = prey_updates_ = 0; }
   /// \brief Polarisation of the flying prey at the last statistics row.
   double last_polarisation() const { return last_phi_; }
 
@@ -122,6 +128,7 @@ class FlockScenario : public Scenario {
   int grains_per_frame_ = 1;
   models::flock::ToppleOrder topple_order_ = models::flock::ToppleOrder::kWaves;
   long long avalanches_ = 0;
+  long long neighbour_sum_ = 0, prey_updates_ = 0;
   // Neighbour search (rebuilt every step) and its slot-ordered copies.
   particles::OrderedCellList cells_;
   std::vector<double> svx_, svy_, svz_;

@@ -58,8 +58,10 @@ inline bool perceives(const Vec3& v, const Vec3& d, Real r2, Real radius2, Real 
 /// The nearest neighbour is chosen by (distance, id), so ties are broken identically everywhere.
 inline void accumulate_neighbour(NeighbourSums& s, const Vec3& d, Real r2, const Vec3& vj,
                                  std::uint64_t id, Real d_star) {
-  const Real r = std::sqrt(r2);
-  if (r < d_star) s.separation -= d * ((d_star - r) / r);
+  if (r2 < d_star * d_star) {  // the square root only for the few pairs closer than d*
+    const Real r = std::sqrt(r2);
+    s.separation -= d * ((d_star - r) / r);
+  }
   s.velocity += vj;
   s.position += d;
   ++s.count;
