@@ -26,24 +26,26 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   if (rank == 0)
     fmt::print(
         "flock benchmark: {} rank(s), uniform random boids in a periodic box, perception radius "
-        "{} m, target {} boids within it, no predator, no noise, {} timed steps\n"
+        "{} m (bins of radius/{}), target {} boids within it, no predator, no noise, {} timed "
+        "steps\n"
         "(updates/s/core: wall clock; per CPU-s: per second of CPU time the ranks received, which "
         "differs on a shared machine)\n"
         "{:>9} {:>8} {:>10} {:>12} {:>14} {:>14} {:>8} {:>8} {:>8}\n",
-        size, R, opts.neighbours, opts.steps, "boids", "box [m]", "perceived", "step [ms]",
-        "updates/s/core", "per CPU-s", "rules %", "comm %", "other %");
+        size, R, opts.reach, opts.neighbours, opts.steps, "boids", "box [m]", "perceived",
+        "step [ms]", "updates/s/core", "per CPU-s", "rules %", "comm %", "other %");
   for (long long n : opts.boids) {
     // Density for `neighbours` boids in the perception sphere; box a multiple of dx = R.
     const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
     const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
     const std::string deck = fmt::format(
         "scenario = \"flock\"\nseed = 1\n[flock]\nstats_interval = 1000000\n"
-        "[flock.domain]\nsize = [{0}, {0}, {0}]\ndx = {1}\nboundary = \"periodic\"\n"
+        "[flock.domain]\nsize = [{0}, {0}, {0}]\ndx = {1}\nboundary = \"periodic\"\nbin_reach = "
+        "{3}\n"
         "[flock.boids]\nperception_radius = {1}\n[flock.prey]\ncount = {2}\n"
         "[flock.predator]\ncount = 0\n[flock.sandpile]\nsize = 4\n"
         "[flock.noise]\nheading = 0.0\ncruising_distance = 0.0\nmax_speed = 0.0\n"
         "[flock.takeoff]\nifs = \"uniform\"\n",
-        side, R, n);
+        side, R, n, opts.reach);
     const auto cfg = core::Config::from_string(schema, deck, "bench");
     core::Timers timers;
     scenarios::RunContext ctx{comm, cfg, timers, "bench_flock_out"};

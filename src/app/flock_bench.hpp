@@ -12,6 +12,7 @@ namespace biota::app {
 struct FlockBenchOptions {
   std::vector<long long> boids = {10000, 100000, 1000000};  ///< prey counts
   int steps = 20;                                           ///< timed steps per case
+  int reach = 1;                                            ///< flock.domain.bin_reach
   double neighbours = 20;  ///< target mean number of boids within the perception radius
 };
 

@@ -138,6 +138,7 @@ int main(int argc, char** argv) {
   bench->add_option("--steps", bench_opts.steps, "timed steps per case");
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
+  bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
   try {
     cli.parse(own_argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -105,6 +105,23 @@ class OrderedCellList {
     }
   }
 
+  /// \brief Like for_each_near(), but calls f(first, last) once per contiguous run of slots
+  /// (one row of 2m+1 bins along x), in the same order, so the caller can process blocks.
+  template <class F>
+  void for_each_near_block(const core::Vec3& p, F&& f) const {
+    if (n_ == 0) return;
+    const long long b0 = axis_bin(0, p.x) - lo_[0], b1 = axis_bin(1, p.y) - lo_[1],
+                    b2 = axis_bin(2, p.z) - lo_[2];
+    const long long m = reach_;
+    const long long cx0 = std::max(b0 - m, 0LL), cx1 = std::min(b0 + m, nb_[0] - 1);
+    if (cx0 > cx1) return;
+    for (long long cz = std::max(b2 - m, 0LL); cz <= std::min(b2 + m, nb_[2] - 1); ++cz)
+      for (long long cy = std::max(b1 - m, 0LL); cy <= std::min(b1 + m, nb_[1] - 1); ++cy) {
+        const std::size_t first = head_[flat(cx0, cy, cz)], last = head_[flat(cx1, cy, cz) + 1];
+        if (last > first) f(first, last);
+      }
+  }
+
   /// \brief Points binned by the last build().
   std::size_t size() const { return n_; }
   /// \brief Original index of slot k.

@@ -33,6 +33,9 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
              "thickness of the soft-wall layer", true);
   s.add_real("flock.domain.wall_weight", 20.0, 0.0, std::nullopt, "m/s^2",
              "soft-wall push at the wall (quadratic in depth)");
+  s.add_int("flock.domain.bin_reach", 1, 1, 4,
+            "neighbour bins have edge perception_radius / reach (more, smaller bins: fewer "
+            "candidates, more rows)");
   s.add_real("flock.dt", 0.05, 0.0, std::nullopt, "s", "time step (one animation frame)", true);
   s.add_int("flock.stats_interval", 5, 1, std::nullopt, "steps between rows of flock_order.csv");
   // Boids (spec 2.1).
@@ -144,6 +147,7 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   lo_ = pcomm_->domain_lo();
   hi_ = pcomm_->domain_hi();
   wall_margin_ = c.get_real("flock.domain.wall_margin");
+  bin_reach_ = static_cast<int>(c.get_int("flock.domain.bin_reach"));
   wall_weight_ = periodic_ ? 0.0 : c.get_real("flock.domain.wall_weight");
 
   fov_cos_ = std::cos(c.get_real("flock.boids.fov_degrees") / 2 * std::numbers::pi / 180);
@@ -324,7 +328,7 @@ void FlockScenario::begin_step() {
   cells_.build(set_->real(particles::ParticleSet::kPos, 0),
                set_->real(particles::ParticleSet::kPos, 1),
                set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
-               n, lo_, radius_, 2);
+               n, lo_, radius_, bin_reach_);
   svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
   const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
                *vz = set_->real(a_vel_, 2);
@@ -476,13 +480,37 @@ void FlockScenario::step() {
       }
       const double dstar = set_->real(a_dstar_)[i];
       mf::NeighbourSums s;
-      cells_.for_each_near(x, [&](std::size_t j) {
-        const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
-        const double r2 = core::dot(d, d);
-        if (r2 >= R2 || !eligible_[j]) return;  // most candidates fail the distance test
-        if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
-        mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
-      });
+      if (align_mode_ == mf::AlignmentMode::kAverage) {
+        // Blocks: a vectorised perception mask, a branch-free compaction, then the sums over the
+        // accepted neighbours in visit order (the order that makes them decomposition-invariant).
+        const double v2 = core::dot(v, v), c2 = fov_cos_ * fov_cos_;
+        std::size_t cnt = 0;
+        cells_.for_each_near_block(x, [&](std::size_t first, std::size_t last) {
+          const std::size_t n = last - first;
+          if (mask_.size() < n) mask_.resize(2 * n);
+          if (accepted_.size() < cnt + n) accepted_.resize(2 * (cnt + n));
+          mf::perceive_block(X + first, Y + first, Z + first, eligible_.data() + first, n, x, v, v2,
+                             R2, fov_cos_, c2, mask_.data());
+          for (std::size_t q = 0; q < n; ++q) {
+            accepted_[cnt] = static_cast<std::uint32_t>(first + q);
+            cnt += mask_[q];
+          }
+        });
+        for (std::size_t a = 0; a < cnt; ++a) {
+          const std::size_t j = accepted_[a];
+          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+          mf::accumulate_neighbour(s, d, core::dot(d, d), {svx_[j], svy_[j], svz_[j]}, ids[j],
+                                   dstar);
+        }
+      } else {
+        cells_.for_each_near(x, [&](std::size_t j) {
+          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+          const double r2 = core::dot(d, d);
+          if (r2 >= R2 || !eligible_[j]) return;
+          if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
+          mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
+        });
+      }
       neighbour_sum_ += s.count;
       ++prey_updates_;
       // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.

@@ -103,6 +103,7 @@ class FlockScenario : public Scenario {
   bool periodic_ = false;
   core::Vec3 lo_{}, hi_{};
   double wall_margin_ = 0, wall_weight_ = 0;
+  int bin_reach_ = 1;
   // Rules.
   double radius_ = 0, fov_cos_ = -1, w_sep_ = 0, w_ali_ = 0, w_coh_ = 0, a_max_ = 0, v_min_ = 0;
   models::flock::AlignmentMode align_mode_ = models::flock::AlignmentMode::kAverage;
@@ -133,6 +134,8 @@ class FlockScenario : public Scenario {
   particles::OrderedCellList cells_;
   std::vector<double> svx_, svy_, svz_;
   std::vector<char> eligible_;
+  std::vector<unsigned char> mask_;      // perception mask of one block of candidates
+  std::vector<std::uint32_t> accepted_;  // accepted candidate slots of one boid, visit order
   // Statistics.
   int stats_every_ = 1;
   double last_phi_ = 0;

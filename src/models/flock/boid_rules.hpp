@@ -10,6 +10,7 @@
 ///  2. the rule accelerations (separation, alignment, cohesion, flee, chase, soft walls);
 ///  3. prioritized_sum() — Reynolds' prioritised acceleration allocation — then integrate().
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -69,6 +70,51 @@ inline void accumulate_neighbour(NeighbourSums& s, const Vec3& d, Real r2, const
     s.nearest_r2 = r2;
     s.nearest_id = id;
     s.nearest_velocity = vj;
+  }
+}
+
+/// \brief Branch-light fusion of perceives() and accumulate_neighbour() for the hot loop, for
+/// AlignmentMode::kAverage (the nearest neighbour is not tracked). Every candidate (d, r2, vj) of
+/// the cell list is passed; `eligible` says whether it may be a neighbour at all (a flying prey).
+/// Rejected candidates add exact zeros, so the sums are bitwise those of the two-step path over
+/// the same candidate order (tested); the unpredictable accept/reject decision costs no branch.
+/// `v2` = |v|², `c2` = fov_cos² (precomputed).
+inline void accumulate_candidate(NeighbourSums& s, const Vec3& v, Real v2, const Vec3& d, Real r2,
+                                 const Vec3& vj, bool eligible, Real radius2, Real fov_cos, Real c2,
+                                 Real d_star) {
+  const Real vd = core::dot(v, d), lim = c2 * v2 * r2;
+  const bool cone = fov_cos >= 0 ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
+  const bool fov = (fov_cos <= -1) | (v2 == 0) | cone;
+  const bool in = eligible & (r2 < radius2) & (r2 > 0) & fov;
+  if (in & (r2 < d_star * d_star)) {  // rare (pairs closer than d*): a predictable branch
+    const Real r = std::sqrt(r2);
+    s.separation -= d * ((d_star - r) / r);
+  }
+  const Real m = in ? Real(1) : Real(0);
+  s.velocity += vj * m;
+  s.position += d * m;
+  s.count += in;
+}
+
+/// \brief perceives() for a contiguous block of candidates (SoA X, Y, Z, eligibility flags),
+/// written as a branch-free loop the compiler vectorises; mask[k] = 1 if candidate k is an
+/// eligible neighbour of the boid at x with velocity v (v2 = |v|², c2 = fov_cos²). Exactly the
+/// decisions of `eligible && perceives(...)` (tested). No floating-point sums happen here, so the
+/// neighbour sums that follow keep their fixed order.
+inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
+                           const Real* __restrict Z, const char* __restrict eligible, std::size_t n,
+                           const Vec3& x, const Vec3& v, Real v2, Real radius2, Real fov_cos,
+                           Real c2, unsigned char* __restrict mask) {
+  const bool all_round = (fov_cos <= -1) | (v2 == 0);
+  const bool narrow = fov_cos >= 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Real dx = X[k] - x.x, dy = Y[k] - x.y, dz = Z[k] - x.z;
+    const Real r2 = dx * dx + dy * dy + dz * dz;
+    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
+    const bool ahead = vd >= 0, wide = vd * vd >= lim;  // cone test of perceives()
+    const bool cone = narrow ? (ahead & wide) : (ahead | (vd * vd <= lim));
+    mask[k] = static_cast<unsigned char>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
+                                         (all_round | cone));
   }
 }
 

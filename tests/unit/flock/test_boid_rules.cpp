@@ -117,6 +117,60 @@ TEST(BoidKernels, PriorityBudgetFleeChaseWallsIntegrate) {
   EXPECT_EQ(r.z, 2.0);
 }
 
+TEST(BoidKernels, FusedCandidatePathIsBitwiseTheTwoStepPath) {
+  for (double fov_deg : {360.0, 270.0, 120.0}) {
+    const double fc = fov_deg >= 360 ? -1 : std::cos(fov_deg / 2 * std::numbers::pi / 180);
+    for (int b = 0; b < 50; ++b) {
+      Rng r(21, b, 0, RngPurpose::kTest);
+      const Vec3 v = b == 0 ? Vec3{} : random_unit(r) * r.uniform(0.5, 2);
+      NeighbourSums two, fused;
+      for (int k = 0; k < 200; ++k) {
+        const Vec3 d = k == 0 ? Vec3{} : Vec3{r.uniform(-4, 4), r.uniform(-4, 4), r.uniform(-4, 4)};
+        const Vec3 vj = random_unit(r);
+        const bool elig = r.uniform() < 0.8;
+        const double r2 = biota::core::dot(d, d);
+        if (elig && perceives(v, d, r2, 9.0, fc)) accumulate_neighbour(two, d, r2, vj, k, 1.2);
+        accumulate_candidate(fused, v, biota::core::dot(v, v), d, r2, vj, elig, 9.0, fc, fc * fc,
+                             1.2);
+      }
+      ASSERT_EQ(two.count, fused.count);
+      EXPECT_EQ(two.separation, fused.separation);
+      EXPECT_EQ(two.velocity, fused.velocity);
+      EXPECT_EQ(two.position, fused.position);
+    }
+  }
+}
+
+TEST(BoidKernels, PerceiveBlockMatchesPerceives) {
+  std::vector<double> X(300), Y(300), Z(300);
+  std::vector<char> elig(300);
+  std::vector<unsigned char> mask(300);
+  int total = 0;
+  for (double fov_deg : {360.0, 300.0, 180.0, 90.0}) {
+    const double fc = fov_deg >= 360 ? -1 : std::cos(fov_deg / 2 * std::numbers::pi / 180);
+    for (int b = 0; b < 20; ++b) {
+      Rng r(22, b, 0, RngPurpose::kTest);
+      const Vec3 x{r.uniform(), r.uniform(), r.uniform()};
+      const Vec3 v = b == 0 ? Vec3{} : random_unit(r);
+      for (int k = 0; k < 300; ++k) {
+        X[k] = k == 7 ? x.x : r.uniform(-3, 4), Y[k] = k == 7 ? x.y : r.uniform(-3, 4);
+        Z[k] = k == 7 ? x.z : r.uniform(-3, 4), elig[k] = r.uniform() < 0.9;
+      }
+      perceive_block(X.data(), Y.data(), Z.data(), elig.data(), 300, x, v, biota::core::dot(v, v),
+                     4.0, fc, fc * fc, mask.data());
+      int accepted = 0;
+      for (int k = 0; k < 300; ++k) {
+        const Vec3 d{X[k] - x.x, Y[k] - x.y, Z[k] - x.z};
+        const bool want = elig[k] && perceives(v, d, biota::core::dot(d, d), 4.0, fc);
+        EXPECT_EQ(mask[k] != 0, want) << "fov " << fov_deg << " k " << k;
+        accepted += want;
+      }
+      total += accepted;
+    }
+  }
+  EXPECT_GT(total, 300);
+}
+
 TEST(BoidFlock, RandomHeadingsGiveMeanPhiSquaredOneOverN) {
   // For N independent isotropic unit vectors E[φ²] = 1/N exactly; φ² ≈ χ²₃/(3N), so one sample has
   // standard deviation sqrt(2/3)/N and the mean of M samples sqrt(2/3)/(N sqrt(M)).
