@@ -81,13 +81,17 @@ void expect_same(const std::vector<scenarios::BoidRecord>& a,
 
 }  // namespace
 
-TEST(FlockInvariance, SameBoidsOnAnyRankCountAndAcrossRestart) {
+class FlockInvariance : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FlockInvariance, SameBoidsOnAnyRankCountAndAcrossRestart) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const auto sch = schema();
-  const auto cfg = core::Config::from_string(sch, kDeck, "flock_invariance.toml");
-  const std::string dir = "flock_invariance_np" + std::to_string(size);
+  const std::string boundary = GetParam();
+  const auto cfg = core::Config::from_string(sch, kDeck, "flock_invariance.toml",
+                                             {"flock.domain.boundary=\"" + boundary + "\""});
+  const std::string dir = "flock_invariance_" + boundary + "_np" + std::to_string(size);
   if (rank == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(MPI_COMM_WORLD);
   constexpr int N = 60;
@@ -129,3 +133,5 @@ TEST(FlockInvariance, SameBoidsOnAnyRankCountAndAcrossRestart) {
   EXPECT_EQ(topplings, ref_topplings);
   if (solo != MPI_COMM_NULL) MPI_Comm_free(&solo);
 }
+
+INSTANTIATE_TEST_SUITE_P(Boundaries, FlockInvariance, ::testing::Values("walls", "periodic"));
