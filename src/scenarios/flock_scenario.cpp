@@ -323,6 +323,15 @@ Vec3 FlockScenario::min_image(Vec3 d) const {
 
 void FlockScenario::begin_step() {
   pcomm_->migrate(*set_);
+  if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
+    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+                 set_->real(particles::ParticleSet::kPos, 1),
+                 set_->real(particles::ParticleSet::kPos, 2),
+                 set_->u64(particles::ParticleSet::kId), set_->n_owned(), lo_, radius_, bin_reach_);
+    std::vector<std::size_t> order(set_->n_owned());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = cells_.index(k);
+    set_->reorder_owned(order);
+  }
   pcomm_->build_ghosts(*set_, radius_);
   const std::size_t n = set_->n_total();
   cells_.build(set_->real(particles::ParticleSet::kPos, 0),

@@ -133,8 +133,8 @@ class FlockScenario : public Scenario {
   // Neighbour search (rebuilt every step) and its slot-ordered copies.
   particles::OrderedCellList cells_;
   std::vector<double> svx_, svy_, svz_;
-  std::vector<char> eligible_;
-  std::vector<unsigned char> mask_;      // perception mask of one block of candidates
+  std::vector<std::uint64_t> eligible_;
+  std::vector<std::uint64_t> mask_;      // perception mask of one block of candidates
   std::vector<std::uint32_t> accepted_;  // accepted candidate slots of one boid, visit order
   // Statistics.
   int stats_every_ = 1;

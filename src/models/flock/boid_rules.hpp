@@ -99,12 +99,13 @@ inline void accumulate_candidate(NeighbourSums& s, const Vec3& v, Real v2, const
 /// \brief perceives() for a contiguous block of candidates (SoA X, Y, Z, eligibility flags),
 /// written as a branch-free loop the compiler vectorises; mask[k] = 1 if candidate k is an
 /// eligible neighbour of the boid at x with velocity v (v2 = |v|², c2 = fov_cos²). Exactly the
-/// decisions of `eligible && perceives(...)` (tested). No floating-point sums happen here, so the
-/// neighbour sums that follow keep their fixed order.
+/// decisions of `eligible && perceives(...)` (tested). 64-bit flags keep the vector length at 8
+/// doubles (byte flags made GCC pick 64 lanes, longer than a block). No floating-point sums happen
+/// here, so the neighbour sums that follow keep their fixed order.
 inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
-                           const Real* __restrict Z, const char* __restrict eligible, std::size_t n,
-                           const Vec3& x, const Vec3& v, Real v2, Real radius2, Real fov_cos,
-                           Real c2, unsigned char* __restrict mask) {
+                           const Real* __restrict Z, const std::uint64_t* __restrict eligible,
+                           std::size_t n, const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                           Real fov_cos, Real c2, std::uint64_t* __restrict mask) {
   const bool all_round = (fov_cos <= -1) | (v2 == 0);
   const bool narrow = fov_cos >= 0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -113,7 +114,7 @@ inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
     const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
     const bool ahead = vd >= 0, wide = vd * vd >= lim;  // cone test of perceives()
     const bool cone = narrow ? (ahead & wide) : (ahead | (vd * vd <= lim));
-    mask[k] = static_cast<unsigned char>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
+    mask[k] = static_cast<std::uint64_t>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
                                          (all_round | cone));
   }
 }

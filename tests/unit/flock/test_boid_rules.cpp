@@ -143,8 +143,7 @@ TEST(BoidKernels, FusedCandidatePathIsBitwiseTheTwoStepPath) {
 
 TEST(BoidKernels, PerceiveBlockMatchesPerceives) {
   std::vector<double> X(300), Y(300), Z(300);
-  std::vector<char> elig(300);
-  std::vector<unsigned char> mask(300);
+  std::vector<std::uint64_t> elig(300), mask(300);
   int total = 0;
   for (double fov_deg : {360.0, 300.0, 180.0, 90.0}) {
     const double fc = fov_deg >= 360 ? -1 : std::cos(fov_deg / 2 * std::numbers::pi / 180);

@@ -65,3 +65,26 @@ TEST(OrderedCellList, MatchesBruteForceAndOrderIsStorageIndependent) {
   }
   EXPECT_GT(pairs, n);
 }
+
+#include "particles/particle_set.hpp"
+
+TEST(ParticleSet, ReorderOwnedPermutesEveryColumn) {
+  biota::particles::ParticleLayout layout;
+  const int a = layout.add_real("v", 3, true, true);
+  const int u = layout.add_u64("tag", 1, true, false);
+  biota::particles::ParticleSet s(layout);
+  for (int i = 0; i < 5; ++i) {
+    const std::size_t k = s.add_owned(100 + i, {double(i), 0, 0});
+    s.set_vec3(a, k, {0, double(i), 0});
+    s.u64(u)[k] = 7 * i;
+  }
+  s.reorder_owned({4, 2, 0, 1, 3});
+  const int want[5] = {4, 2, 0, 1, 3};
+  for (int m = 0; m < 5; ++m) {
+    EXPECT_EQ(s.id(m), 100u + want[m]);
+    EXPECT_EQ(s.pos(m).x, want[m]);
+    EXPECT_EQ(s.vec3(a, m).y, want[m]);
+    EXPECT_EQ(s.u64(u)[m], 7u * want[m]);
+  }
+  EXPECT_THROW(s.reorder_owned({0, 1}), std::invalid_argument);
+}
