@@ -447,8 +447,10 @@ void FlockScenario::step() {
   std::vector<NearestPrey> near;
   {
     auto scope = ctx_.timers.scope("predators");
-    preds = gather_predators();
-    near = nearest_prey(preds);
+    if (n_pred_ > 0) {  // two collectives per step, skipped when there is nothing to find
+      preds = gather_predators();
+      near = nearest_prey(preds);
+    }
   }
   {
     auto scope = ctx_.timers.scope("sandpile");
