@@ -21,6 +21,8 @@ struct RunContext {
   const core::Config& config;
   core::Timers& timers;
   std::string output_dir;  ///< output.dir, created by the app
+  /// \brief Command-line words after `--` (e.g. PETSc options such as -poisson_ksp_type cg).
+  std::vector<std::string> solver_options = {};
 };
 
 /// \brief A runnable scenario (tank, seaweed, wind, flock, ...).

@@ -1,0 +1,18 @@
+#pragma once
+/// \file lbm_bench.hpp
+/// \brief `biota bench lbm`: MLUPS of the production LBM sweep beside the memory bandwidth
+/// measured in the same run (STREAM triad) and the roofline it implies.
+#include <mpi.h>
+
+namespace biota::app {
+
+/// \brief Options of the LBM benchmark.
+struct LbmBenchOptions {
+  int size = 100;   ///< cells per axis
+  int steps = 200;  ///< timed steps per case
+};
+
+/// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.
+int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts);
+
+}  // namespace biota::app

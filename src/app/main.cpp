@@ -1,0 +1,185 @@
+/// \file main.cpp
+/// \brief The `biota` executable: run, check, bench, reference, --version.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <hdf5.h>
+#include <mpi.h>
+#include <vtkVersion.h>
+
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "app/lbm_bench.hpp"
+#include "app/run_loop.hpp"
+#include "core/config.hpp"
+#include "core/error.hpp"
+#include "scenarios/scenario.hpp"
+
+#ifndef BIOTA_VERSION
+#define BIOTA_VERSION "unknown"
+#endif
+#ifndef BIOTA_BUILD_TYPE
+#define BIOTA_BUILD_TYPE "unknown"
+#endif
+
+namespace {
+
+using namespace biota;
+
+/// Owns MPI for the life of the process (the only singleton the design allows).
+struct MpiEnvironment {
+  MpiEnvironment(int& argc, char**& argv) { MPI_Init(&argc, &argv); }
+  ~MpiEnvironment() { MPI_Finalize(); }
+};
+
+bool is_root() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r == 0;
+}
+
+std::string version_text() {
+  char mpi[MPI_MAX_LIBRARY_VERSION_STRING];
+  int len = 0;
+  MPI_Get_library_version(mpi, &len);
+  std::string mpi_line(mpi, len);
+  mpi_line = mpi_line.substr(0, mpi_line.find_first_of(",\n"));
+  unsigned maj = 0, min = 0, rel = 0;
+  H5get_libversion(&maj, &min, &rel);
+  return fmt::format(
+      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  VTK: {}\n  toml++: "
+      "{}.{}.{}\n  fmt: {}\n  compiler: {}",
+      BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel,
+      vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH, FMT_VERSION,
+      __VERSION__);
+}
+
+// The deck names its scenario; read just that key so the full schema can be assembled.
+scenarios::ScenarioInfo scenario_of(const std::string& deck,
+                                    const std::vector<std::string>& overrides) {
+  std::vector<scenarios::ScenarioInfo> all = scenarios::all_scenarios();
+  std::string names;
+  for (auto& s : all) names += (names.empty() ? "" : ", ") + s.name;
+  core::ConfigSchema only;
+  only.add_string("scenario", std::nullopt, {}, "scenario");
+  std::ifstream in(deck);
+  if (!in) throw core::InputError(deck + ": cannot open deck (missing or unreadable file)");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  std::string name;
+  try {
+    auto table = toml::parse(buf.str(), deck);
+    if (auto v = table["scenario"].value<std::string>()) name = *v;
+  } catch (const toml::parse_error& e) {
+    throw core::InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", deck,
+                                       e.source().begin.line, e.source().begin.column,
+                                       e.description()));
+  }
+  for (const auto& ov : overrides)
+    if (ov.rfind("scenario=", 0) == 0) name = ov.substr(9);
+  if (name.empty())
+    throw core::InputError(deck + ": required key 'scenario' is missing; allowed: one of {" +
+                           names + "}");
+  for (auto& s : all)
+    if (s.name == name) return s;
+  throw core::InputError(fmt::format("{}: scenario = \"{}\" is not a known scenario; allowed: one of {{{}}}",
+                                     deck, name, names));
+}
+
+core::ConfigSchema schema_for(const scenarios::ScenarioInfo& info) {
+  core::ConfigSchema schema;
+  app::declare_common_config(schema);
+  std::vector<std::string> names;
+  for (auto& s : scenarios::all_scenarios()) names.push_back(s.name);
+  core::KeySpec spec = *schema.find("scenario");
+  spec.choices = names;
+  schema.add("scenario", spec);
+  info.declare_config(schema);
+  return schema;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Words after "--" belong to the solvers (PETSc options), not to biota's own parser.
+  std::vector<std::string> solver_options;
+  int own_argc = argc;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--") {
+      own_argc = i;
+      for (int j = i + 1; j < argc; ++j) solver_options.emplace_back(argv[j]);
+      break;
+    }
+  MpiEnvironment mpi(argc, argv);
+  const bool root = is_root();
+
+  CLI::App cli{"Biota: living systems in moving fluids (MPI)"};
+  cli.require_subcommand(0, 1);
+  bool show_version = false;
+  cli.add_flag("--version", show_version, "print version, build type and dependency versions");
+  std::string deck, restart;
+  std::vector<std::string> overrides;
+  auto* run = cli.add_subcommand("run", "run a deck");
+  run->add_option("deck", deck, "TOML input deck")->required();
+  run->add_option("--set", overrides, "override a deck key: --set key=value (repeatable)");
+  run->add_option("--restart", restart, "continue from this checkpoint file");
+  auto* check = cli.add_subcommand("check", "validate a deck without running it");
+  check->add_option("deck", deck, "TOML input deck")->required();
+  check->add_option("--set", overrides, "override a deck key: --set key=value (repeatable)");
+  auto* reference = cli.add_subcommand("reference", "print the deck reference (markdown)");
+  auto* bench = cli.add_subcommand("bench", "benchmarks: `biota bench lbm`");
+  std::string bench_what = "lbm";
+  app::LbmBenchOptions bench_opts;
+  bench->add_option("what", bench_what, "what to benchmark")->check(CLI::IsMember({"lbm"}));
+  bench->add_option("--size", bench_opts.size, "cells per axis");
+  bench->add_option("--steps", bench_opts.steps, "timed steps per case");
+  try {
+    cli.parse(own_argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = root ? cli.exit(e) : (e.get_exit_code() == 0 ? 0 : core::kExitInput);
+    return code == 0 ? 0 : core::kExitInput;
+  }
+  try {
+    if (show_version) {
+      if (root) fmt::print("{}\n", version_text());
+      return 0;
+    }
+    if (*reference) {
+      if (root) {
+        fmt::print("# Deck reference\n\nGenerated by `biota reference` from the config schema.\n");
+        for (auto& s : scenarios::all_scenarios())
+          fmt::print("\n## scenario = \"{}\"\n\n{}\n\n{}", s.name, s.description,
+                     schema_for(s).reference_markdown());
+      }
+      return 0;
+    }
+    if (*bench) return app::run_lbm_bench(MPI_COMM_WORLD, bench_opts);
+    if (*run || *check) {
+      auto info = scenario_of(deck, overrides);
+      auto schema = schema_for(info);
+      auto cfg = core::Config::from_file(schema, deck, overrides);
+      if (root) fmt::print("# effective configuration of {}\n{}\n", deck, cfg.effective_toml());
+      if (*check) {
+        // Build the scenario (no output) so that derived checks (tau, Mach, ...) run too.
+        core::Timers timers;
+        scenarios::RunContext ctx{MPI_COMM_WORLD, cfg, timers, cfg.get_string("output.dir"),
+                                  solver_options};
+        info.create(ctx);
+        if (root) fmt::print("{}: OK\n", deck);
+        return 0;
+      }
+      app::install_signal_handlers();
+      return app::run_scenario(MPI_COMM_WORLD, cfg, restart, solver_options);
+    }
+    if (root) fmt::print("{}", cli.help());
+    return 0;
+  } catch (const core::InputError& e) {
+    if (root) fmt::print(stderr, "biota: error: {}\n", e.what());
+    return core::kExitInput;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "biota: fatal error: {}\n", e.what());
+    MPI_Abort(MPI_COMM_WORLD, core::kExitRuntime);
+    return core::kExitRuntime;
+  }
+}

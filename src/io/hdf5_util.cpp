@@ -1,0 +1,169 @@
+#include "io/hdf5_util.hpp"
+
+#include <stdexcept>
+
+namespace biota::io::h5 {
+namespace {
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+hid_t check_id(hid_t id, const std::string& what) {
+  if (id < 0) throw std::runtime_error("HDF5: " + what + " failed");
+  return id;
+}
+}  // namespace
+
+hid_t create_parallel(const std::string& path, MPI_Comm comm) {
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  return check_id(file, "create " + path);
+}
+
+hid_t open_parallel(const std::string& path, MPI_Comm comm) {
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  hid_t file = -1;
+  H5E_BEGIN_TRY { file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl); }
+  H5E_END_TRY;
+  H5Pclose(fapl);
+  return file;
+}
+
+void ensure_group(hid_t file, const std::string& path) {
+  std::string partial;
+  size_t pos = 0;
+  while (pos != std::string::npos) {
+    pos = path.find('/', pos + 1);
+    partial = path.substr(0, pos);
+    if (partial.empty() || partial == "/") continue;
+    if (H5Lexists(file, partial.c_str(), H5P_DEFAULT) <= 0) {
+      hid_t g = check_id(H5Gcreate2(file, partial.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         "create group " + partial);
+      H5Gclose(g);
+    }
+  }
+}
+
+void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                 const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                 const double* data, hid_t type) {
+  auto slash = name.rfind('/');
+  if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
+  const int rank = static_cast<int>(global.size());
+  hid_t fspace = H5Screate_simple(rank, global.data(), nullptr);
+  hid_t dset = check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT,
+                                   H5P_DEFAULT),
+                        "create dataset " + name);
+  hsize_t n = 1;
+  for (auto c : count) n *= c;
+  hid_t mspace = H5Screate_simple(rank, count.data(), nullptr);
+  if (n == 0) {
+    H5Sselect_none(fspace);
+    H5Sselect_none(mspace);
+  } else {
+    H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
+  }
+  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  check(H5Dwrite(dset, type, mspace, fspace, dxpl, data), "write " + name);
+  H5Pclose(dxpl);
+  H5Sclose(mspace);
+  H5Sclose(fspace);
+  H5Dclose(dset);
+}
+
+void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
+                const std::vector<hsize_t>& count, void* data, hid_t type) {
+  hid_t dset = check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
+  hid_t fspace = H5Dget_space(dset);
+  const int rank = static_cast<int>(count.size());
+  hsize_t n = 1;
+  for (auto c : count) n *= c;
+  hid_t mspace = H5Screate_simple(rank, count.data(), nullptr);
+  if (n == 0) {
+    H5Sselect_none(fspace);
+    H5Sselect_none(mspace);
+  } else {
+    H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
+  }
+  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  check(H5Dread(dset, type, mspace, fspace, dxpl, data), "read " + name);
+  H5Pclose(dxpl);
+  H5Sclose(mspace);
+  H5Sclose(fspace);
+  H5Dclose(dset);
+}
+
+std::vector<hsize_t> dims_of(hid_t file, const std::string& name) {
+  hid_t dset = check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
+  hid_t space = H5Dget_space(dset);
+  int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  H5Sclose(space);
+  H5Dclose(dset);
+  return dims;
+}
+
+void write_string_attribute(hid_t obj, const std::string& name, const std::string& value) {
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size() + 1);
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t attr = H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(attr, type, value.c_str()), "write attribute " + name);
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+void write_double_attribute(hid_t obj, const std::string& name, double value) {
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t attr = H5Acreate2(obj, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+  H5Aclose(attr);
+  H5Sclose(space);
+}
+
+void write_int_attribute(hid_t obj, const std::string& name, long long value) {
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t attr = H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(attr, H5T_NATIVE_LLONG, &value), "write attribute " + name);
+  H5Aclose(attr);
+  H5Sclose(space);
+}
+
+std::string read_string_attribute(hid_t obj, const std::string& name) {
+  hid_t attr = check_id(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "open attribute " + name);
+  hid_t type = H5Aget_type(attr);
+  size_t size = H5Tget_size(type);
+  std::string value(size, '\0');
+  hid_t mem = H5Tcopy(H5T_C_S1);
+  H5Tset_size(mem, size);
+  check(H5Aread(attr, mem, value.data()), "read attribute " + name);
+  H5Tclose(mem);
+  H5Tclose(type);
+  H5Aclose(attr);
+  value.resize(value.find('\0') == std::string::npos ? size : value.find('\0'));
+  return value;
+}
+
+double read_double_attribute(hid_t obj, const std::string& name) {
+  hid_t attr = check_id(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "open attribute " + name);
+  double v = 0;
+  check(H5Aread(attr, H5T_NATIVE_DOUBLE, &v), "read attribute " + name);
+  H5Aclose(attr);
+  return v;
+}
+
+long long read_int_attribute(hid_t obj, const std::string& name) {
+  hid_t attr = check_id(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "open attribute " + name);
+  long long v = 0;
+  check(H5Aread(attr, H5T_NATIVE_LLONG, &v), "read attribute " + name);
+  H5Aclose(attr);
+  return v;
+}
+
+}  // namespace biota::io::h5

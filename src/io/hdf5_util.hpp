@@ -1,0 +1,35 @@
+#pragma once
+/// \file hdf5_util.hpp
+/// \brief Small RAII and helper layer over the parallel HDF5 C API (internal to src/io).
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace biota::io::h5 {
+
+/// \brief Create (truncate) a file for collective parallel access.
+hid_t create_parallel(const std::string& path, MPI_Comm comm);
+/// \brief Open a file read-only for collective parallel access; throws on failure.
+hid_t open_parallel(const std::string& path, MPI_Comm comm);
+/// \brief Create the group path (like mkdir -p), return nothing.
+void ensure_group(hid_t file, const std::string& path);
+/// \brief Collective write of a global double dataset: `global` dims, this rank's block at
+/// `offset` with `count`; `data` holds the block in C order.
+void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                 const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                 const double* data, hid_t type = H5T_NATIVE_DOUBLE);
+/// \brief Collective read of a block of a global dataset.
+void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
+                const std::vector<hsize_t>& count, void* data, hid_t type = H5T_NATIVE_DOUBLE);
+/// \brief Dimensions of a dataset.
+std::vector<hsize_t> dims_of(hid_t file, const std::string& name);
+void write_string_attribute(hid_t obj, const std::string& name, const std::string& value);
+void write_double_attribute(hid_t obj, const std::string& name, double value);
+void write_int_attribute(hid_t obj, const std::string& name, long long value);
+std::string read_string_attribute(hid_t obj, const std::string& name);
+double read_double_attribute(hid_t obj, const std::string& name);
+long long read_int_attribute(hid_t obj, const std::string& name);
+
+}  // namespace biota::io::h5

@@ -1,0 +1,16 @@
+#include "scenarios/scenario.hpp"
+#include "scenarios/tank_scenario.hpp"
+
+namespace biota::scenarios {
+
+std::vector<ScenarioInfo> all_scenarios() {
+  return {
+      {"tank", "LBM water tank with the fountain jet (seaweed paper, no plants)",
+       &TankScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<TankScenario>(c);
+       }},
+  };
+}
+
+}  // namespace biota::scenarios

@@ -1,0 +1,497 @@
+#include "solvers/lbm/lbm_solver.hpp"
+
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+#include "solvers/lbm/lattice.hpp"
+#include "solvers/lbm/stream_collide.hpp"
+
+namespace biota::solvers::lbm {
+namespace {
+
+const char* kFaceNames[6] = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
+
+int face_index(const core::Config& cfg, const std::string& key) {
+  const std::string& v = cfg.get_string(key);
+  if (v == "none") return -1;
+  for (int f = 0; f < 6; ++f)
+    if (v == kFaceNames[f]) return f;
+  cfg.fail(key, "is not a face");
+}
+
+template <class L>
+void copy_lattice(std::vector<std::array<int, 3>>& c, std::vector<double>& w,
+                  std::vector<int>& opp) {
+  c.assign(L::c.begin(), L::c.end());
+  w.assign(L::w.begin(), L::w.end());
+  opp.assign(L::opp.begin(), L::opp.end());
+}
+
+using SweepFn = void (*)(const SweepArgs&);
+
+template <class L, bool T, ForceMode F>
+SweepFn pick3(bool macro, bool solids) {
+  if (macro) return solids ? stream_collide<L, T, F, true, true> : stream_collide<L, T, F, true, false>;
+  return solids ? stream_collide<L, T, F, false, true> : stream_collide<L, T, F, false, false>;
+}
+template <class L, bool T>
+SweepFn pick2(ForceMode f, bool macro, bool solids) {
+  switch (f) {
+    case ForceMode::kNone: return pick3<L, T, ForceMode::kNone>(macro, solids);
+    case ForceMode::kUniform: return pick3<L, T, ForceMode::kUniform>(macro, solids);
+    default: return pick3<L, T, ForceMode::kField>(macro, solids);
+  }
+}
+template <class L>
+SweepFn pick1(bool trt, ForceMode f, bool macro, bool solids) {
+  return trt ? pick2<L, true>(f, macro, solids) : pick2<L, false>(f, macro, solids);
+}
+
+}  // namespace
+
+double InletPatch::time_factor(double t) const {
+  double ramp = 1.0;
+  if (ramp_time > 0 && t < ramp_time) ramp = 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp_time));
+  return ramp * (1.0 + pulse_amplitude * std::sin(2.0 * std::numbers::pi * t / pulse_period));
+}
+
+FaceType parse_face_type(const core::Config& cfg, const std::string& key) {
+  const std::string& v = cfg.get_string(key);
+  if (v == "periodic") return FaceType::kPeriodic;
+  if (v == "wall") return FaceType::kWall;
+  if (v == "free_slip") return FaceType::kFreeSlip;
+  if (v == "pressure") return FaceType::kPressure;
+  if (v == "zero_gradient") return FaceType::kZeroGradient;
+  cfg.fail(key, "is not a boundary type");
+}
+
+void LbmSolver::declare_config(core::ConfigSchema& s) {
+  s.add_string("lbm.lattice", "D3Q15", {"D3Q15", "D3Q19"},
+               "velocity set (D3Q15 is the seaweed paper's)");
+  s.add_string("lbm.collision", "bgk", {"bgk", "trt"}, "collision operator");
+  s.add_real("lbm.trt_magic", 3.0 / 16.0, 0.0, 10.0, "-",
+             "TRT magic parameter Lambda (3/16: exact bounce-back wall for Poiseuille)", true);
+  s.add_int("lbm.nx", 100, 2, 100000, "lattice cells along x");
+  s.add_int("lbm.ny", 100, 2, 100000, "lattice cells along y");
+  s.add_int("lbm.nz", 100, 2, 100000, "lattice cells along z");
+  s.add_real("lbm.dx", 0.01, 0.0, std::nullopt, "m", "lattice spacing", true);
+  s.add_real("lbm.dt", 1.0 / 600.0, 0.0, std::nullopt, "s", "lattice time step", true);
+  s.add_real("lbm.density", 998.0, 0.0, std::nullopt, "kg/m^3", "fluid density rho0", true);
+  s.add_real("lbm.tau", std::nullopt, 0.5, 5.0, "-",
+             "(optional) relaxation time; sets the viscosity (give tau or viscosity)", true);
+  s.add_real("lbm.viscosity", std::nullopt, 0.0, std::nullopt, "m^2/s",
+             "(optional) kinematic viscosity; sets tau (give tau or viscosity)", true);
+  s.add_real("lbm.reference_velocity", std::nullopt, 0.0, std::nullopt, "m/s",
+             "(optional) largest expected speed for the Mach check (default: inlet speed)");
+  s.add_real("lbm.max_mach", 0.3, 0.0, 0.5, "-", "largest allowed Mach number", true);
+  for (const char* f : kFaceNames)
+    s.add_string(std::string("lbm.boundary.") + f, "wall",
+                 {"periodic", "wall", "free_slip", "pressure", "zero_gradient"},
+                 std::string("boundary type of face ") + f);
+  s.add_real_list("lbm.body_force", std::vector<double>{0, 0, 0}, 3, "N/m^3",
+                  "uniform body-force density on the fluid");
+  const std::vector<std::string> faces = {"none", "x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
+  s.add_string("lbm.inlet.face", "none", faces, "face carrying the velocity-inlet disc");
+  s.add_real_list("lbm.inlet.center", std::vector<double>{0, 0}, 2, "m",
+                  "disc centre in the face's tangential axes (x,y order)");
+  s.add_real("lbm.inlet.radius", 0.0, 0.0, std::nullopt, "m", "disc radius");
+  s.add_real("lbm.inlet.speed", 0.0, 0.0, std::nullopt, "m/s", "peak inflow speed");
+  s.add_string("lbm.inlet.profile", "parabolic", {"parabolic", "uniform"}, "radial profile");
+  s.add_real("lbm.inlet.ramp_time", 0.0, 0.0, std::nullopt, "s", "smooth start-up time");
+  s.add_real("lbm.inlet.pulse_amplitude", 0.0, 0.0, 1.0, "-", "relative pulsation amplitude");
+  s.add_real("lbm.inlet.pulse_period", 1.0, 0.0, std::nullopt, "s", "pulsation period", true);
+  s.add_string("lbm.outlet.face", "none", faces, "face carrying the outlet annulus");
+  s.add_string("lbm.outlet.type", "pressure", {"pressure", "zero_gradient"}, "outlet condition");
+  s.add_real_list("lbm.outlet.center", std::vector<double>{0, 0}, 2, "m", "annulus centre");
+  s.add_real("lbm.outlet.r_min", 0.0, 0.0, std::nullopt, "m", "annulus inner radius");
+  s.add_real("lbm.outlet.r_max", 1e9, 0.0, std::nullopt, "m", "annulus outer radius");
+}
+
+LbmParams LbmParams::from_config(const core::Config& cfg) {
+  LbmParams p;
+  p.lattice = cfg.get_string("lbm.lattice");
+  p.trt = cfg.get_string("lbm.collision") == "trt";
+  p.magic = cfg.get_real("lbm.trt_magic");
+  p.cells = {int(cfg.get_int("lbm.nx")), int(cfg.get_int("lbm.ny")), int(cfg.get_int("lbm.nz"))};
+  p.dx = cfg.get_real("lbm.dx");
+  p.dt = cfg.get_real("lbm.dt");
+  p.density = cfg.get_real("lbm.density");
+  const bool has_tau = cfg.has("lbm.tau"), has_nu = cfg.has("lbm.viscosity");
+  if (has_tau == has_nu)
+    cfg.fail(has_tau ? "lbm.tau" : "lbm.viscosity",
+             "; give exactly one of lbm.tau (0.5, 5] or lbm.viscosity (0, inf)");
+  p.viscosity = has_nu ? cfg.get_real("lbm.viscosity")
+                       : (cfg.get_real("lbm.tau") - 0.5) / 3.0 * p.dx * p.dx / p.dt;
+  for (int f = 0; f < 6; ++f)
+    p.faces[f] = parse_face_type(cfg, std::string("lbm.boundary.") + kFaceNames[f]);
+  for (int a = 0; a < 3; ++a)
+    if ((p.faces[2 * a] == FaceType::kPeriodic) != (p.faces[2 * a + 1] == FaceType::kPeriodic))
+      cfg.fail(std::string("lbm.boundary.") + kFaceNames[2 * a + 1],
+               fmt::format("must be periodic exactly when lbm.boundary.{} is", kFaceNames[2 * a]));
+  const auto& bf = cfg.get_real_list("lbm.body_force");
+  p.body_force = {bf[0], bf[1], bf[2]};
+  p.inlet.face = face_index(cfg, "lbm.inlet.face");
+  p.inlet.center[0] = cfg.get_real_list("lbm.inlet.center")[0];
+  p.inlet.center[1] = cfg.get_real_list("lbm.inlet.center")[1];
+  p.inlet.radius = cfg.get_real("lbm.inlet.radius");
+  p.inlet.speed = cfg.get_real("lbm.inlet.speed");
+  p.inlet.parabolic = cfg.get_string("lbm.inlet.profile") == "parabolic";
+  p.inlet.ramp_time = cfg.get_real("lbm.inlet.ramp_time");
+  p.inlet.pulse_amplitude = cfg.get_real("lbm.inlet.pulse_amplitude");
+  p.inlet.pulse_period = cfg.get_real("lbm.inlet.pulse_period");
+  if (p.inlet.face >= 0 && p.faces[p.inlet.face] == FaceType::kPeriodic)
+    cfg.fail("lbm.inlet.face", "lies on a periodic face");
+  p.outlet.face = face_index(cfg, "lbm.outlet.face");
+  p.outlet.type = cfg.get_string("lbm.outlet.type") == "pressure" ? FaceType::kPressure
+                                                                   : FaceType::kZeroGradient;
+  p.outlet.center[0] = cfg.get_real_list("lbm.outlet.center")[0];
+  p.outlet.center[1] = cfg.get_real_list("lbm.outlet.center")[1];
+  p.outlet.r_min = cfg.get_real("lbm.outlet.r_min");
+  p.outlet.r_max = cfg.get_real("lbm.outlet.r_max");
+  if (p.outlet.face >= 0 && p.faces[p.outlet.face] == FaceType::kPeriodic)
+    cfg.fail("lbm.outlet.face", "lies on a periodic face");
+  p.max_mach = cfg.get_real("lbm.max_mach");
+  p.reference_velocity = cfg.has("lbm.reference_velocity")
+                             ? cfg.get_real("lbm.reference_velocity")
+                             : p.inlet.speed * (1.0 + p.inlet.pulse_amplitude);
+  // Stability: the derived tau and the Mach number must stay in range.
+  UnitConverter u(p.dx, p.dt, p.density, p.viscosity, p.reference_velocity);
+  if (!(u.tau() > 0.5 + 1e-6) || u.tau() > 5.0)
+    cfg.fail(has_tau ? "lbm.tau" : "lbm.viscosity",
+             fmt::format("gives tau = {:.6g} with lbm.dx = {} and lbm.dt = {}; allowed tau: "
+                         "(0.500001, 5]",
+                         u.tau(), p.dx, p.dt));
+  if (u.mach() > p.max_mach)
+    throw core::InputError(fmt::format(
+        "{}: reference velocity {} m/s (lbm.reference_velocity or lbm.inlet.speed) gives Mach "
+        "{:.3f} with lbm.dx = {} and lbm.dt = {}; allowed: Mach <= lbm.max_mach = {} (reduce "
+        "lbm.dt)",
+        cfg.source(), p.reference_velocity, u.mach(), p.dx, p.dt, p.max_mach));
+  return p;
+}
+
+LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
+    : decomp_(decomp),
+      params_(params),
+      units_(params.dx, params.dt, params.density, params.viscosity, params.reference_velocity) {
+  if (params_.lattice == "D3Q15")
+    copy_lattice<D3Q15>(c_, w_, opp_);
+  else
+    copy_lattice<D3Q19>(c_, w_, opp_);
+  nq_ = static_cast<int>(c_.size());
+  const Index3 n = decomp.local_cells();
+  f_ = grid::Field<Real>(n, nq_, 1);
+  f_next_ = grid::Field<Real>(n, nq_, 1);
+  force_ = grid::Field<Real>(n, 3, 1);
+  rho_ = grid::Field<Real>(n, 1, 1, 1.0);
+  u_ = grid::Field<Real>(n, 3, 1);
+  solid_.assign(f_.plane_size(), 0);
+  // Only the populations that stream into the neighbour cross a face: the low ghost layer of
+  // axis a needs those with c_a = +1, the high one those with c_a = -1.
+  grid::FaceComponents faces;
+  for (int a = 0; a < 3; ++a)
+    for (int q = 0; q < nq_; ++q) {
+      if (c_[q][a] == 1) faces[a][0].push_back(q);
+      if (c_[q][a] == -1) faces[a][1].push_back(q);
+    }
+  halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, faces);
+  halo_u_ = std::make_unique<grid::HaloExchange>(decomp, u_);
+  initialize([](const Index3&, double& rho, Vec3& u) {
+    rho = 1.0;
+    u = {};
+  });
+  build_links();
+}
+
+LbmSolver::~LbmSolver() = default;
+
+void LbmSolver::initialize(const std::function<void(const Index3&, double&, Vec3&)>& init) {
+  const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo;
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        double rho = 1.0;
+        Vec3 u{};
+        init({lo.x + i, lo.y + j, lo.z + k}, rho, u);
+        const double uu = dot(u, u);
+        for (int q = 0; q < nq_; ++q) {
+          const double cu = c_[q][0] * u.x + c_[q][1] * u.y + c_[q][2] * u.z;
+          f_(i, j, k, q) = w_[q] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
+        }
+      }
+  update_macroscopic();
+}
+
+void LbmSolver::update_macroscopic() {
+  const Index3 n = decomp_.local_cells();
+  const Vec3 g{params_.body_force.x, params_.body_force.y, params_.body_force.z};
+  const Vec3 gl{units_.force_density_to_lattice(g.x), units_.force_density_to_lattice(g.y),
+                units_.force_density_to_lattice(g.z)};
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        double m = 0, jx = 0, jy = 0, jz = 0;
+        for (int q = 0; q < nq_; ++q) {
+          const double v = f_(i, j, k, q);
+          m += v;
+          jx += c_[q][0] * v;
+          jy += c_[q][1] * v;
+          jz += c_[q][2] * v;
+        }
+        // Post-collision momentum carries the full force; the physical velocity is half-way.
+        Vec3 fl = gl;
+        if (use_force_field_) fl += Vec3{force_(i, j, k, 0), force_(i, j, k, 1), force_(i, j, k, 2)};
+        rho_(i, j, k) = m;
+        u_(i, j, k, 0) = (jx - 0.5 * fl.x) / m;
+        u_(i, j, k, 1) = (jy - 0.5 * fl.y) / m;
+        u_(i, j, k, 2) = (jz - 0.5 * fl.z) / m;
+      }
+  halo_u_->exchange();
+}
+
+void LbmSolver::set_solid(const std::function<bool(const Index3&)>& is_solid) {
+  const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo;
+  const int g = f_.ghosts();
+  has_solids_ = false;
+  for (int k = -g; k < n.z + g; ++k)
+    for (int j = -g; j < n.y + g; ++j)
+      for (int i = -g; i < n.x + g; ++i) {
+        Index3 gc = decomp_.wrap({lo.x + i, lo.y + j, lo.z + k});
+        bool s = is_solid(gc);
+        solid_[f_.index(i, j, k)] = s;
+        if (s && i >= 0 && j >= 0 && k >= 0 && i < n.x && j < n.y && k < n.z) has_solids_ = true;
+      }
+  int any = has_solids_, global = 0;
+  MPI_Allreduce(&any, &global, 1, MPI_INT, MPI_MAX, decomp_.comm());
+  has_solids_ = has_solids_ || global;  // sweep variant only matters locally, links need all
+  build_links();
+}
+
+void LbmSolver::build_links() {
+  links_.clear();
+  const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo, N = decomp_.global_cells();
+  auto outside_axes = [&](const Index3& gc, int& count, int& face) {
+    count = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (decomp_.periodic(a)) continue;
+      if (gc[a] < 0) { ++count; face = 2 * a; }
+      if (gc[a] >= N[a]) { ++count; face = 2 * a + 1; }
+    }
+  };
+  auto is_fluid_local = [&](int i, int j, int k) {
+    Index3 gc{lo.x + i, lo.y + j, lo.z + k};
+    int cnt = 0, face = -1;
+    outside_axes(gc, cnt, face);
+    return cnt == 0 && !solid_[f_.index(i, j, k)];
+  };
+  // Tangential coordinates [m] of a fluid cell centre on face `face`.
+  auto on_face = [&](int face, const Index3& gc, double& a, double& b) {
+    const int axis = face / 2;
+    const int t0 = axis == 0 ? 1 : 0, t1 = axis == 2 ? 1 : 2;
+    a = (gc[t0] + 0.5) * params_.dx;
+    b = (gc[t1] + 0.5) * params_.dx;
+  };
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        if (solid_[f_.index(i, j, k)]) continue;
+        const Index3 gx{lo.x + i, lo.y + j, lo.z + k};
+        for (int q = 1; q < nq_; ++q) {
+          const int si = i - c_[q][0], sj = j - c_[q][1], sk = k - c_[q][2];
+          const Index3 gs{lo.x + si, lo.y + sj, lo.z + sk};
+          int count = 0, face = -1;
+          outside_axes(gs, count, face);
+          Link l{f_.index(si, sj, sk), f_.index(i, j, k), 0, q, 0, int(FaceType::kWall), 0.0};
+          if (count == 0) {
+            if (!solid_[l.s]) continue;  // fluid neighbour: plain streaming
+          } else if (count == 1) {
+            FaceType t = params_.faces[face];
+            double a = 0, b = 0;
+            on_face(face, gx, a, b);
+            const auto& in = params_.inlet;
+            const auto& out = params_.outlet;
+            if (in.face == face) {
+              const double r2 = (a - in.center[0]) * (a - in.center[0]) +
+                                (b - in.center[1]) * (b - in.center[1]);
+              if (r2 <= in.radius * in.radius) {
+                const double profile = in.parabolic ? 1.0 - r2 / (in.radius * in.radius) : 1.0;
+                const int axis = face / 2;
+                const double normal = (face % 2 == 0) ? 1.0 : -1.0;  // into the domain
+                l.type = -1;
+                l.coef = 6.0 * w_[q] * c_[q][axis] * normal * profile;
+                links_.push_back(l);
+                continue;
+              }
+            }
+            if (out.face == face) {
+              const double r = std::hypot(a - out.center[0], b - out.center[1]);
+              if (r >= out.r_min && r <= out.r_max) t = out.type;
+            }
+            l.type = int(t);
+            if (t == FaceType::kFreeSlip) {
+              // Specular reflection: the population left x' = x - c_t in the mirrored direction.
+              const int axis = face / 2;
+              std::array<int, 3> mirrored = c_[q];
+              mirrored[axis] = -mirrored[axis];
+              int q2 = -1;
+              for (int p = 0; p < nq_; ++p)
+                if (c_[p] == mirrored) q2 = p;
+              int xi = i, xj = j, xk = k;
+              if (axis != 0) xi -= c_[q][0];
+              if (axis != 1) xj -= c_[q][1];
+              if (axis != 2) xk -= c_[q][2];
+              if (is_fluid_local(xi, xj, xk)) {
+                l.q2 = q2;
+                l.x2 = f_.index(xi, xj, xk);
+              } else {
+                l.type = int(FaceType::kWall);
+              }
+            }
+          }  // count > 1 (edges, corners): bounce-back wall
+          links_.push_back(l);
+        }
+      }
+}
+
+void LbmSolver::apply_boundaries() {
+  const double t = time();
+  const double u_in = params_.inlet.face >= 0
+                          ? units_.velocity_to_lattice(params_.inlet.speed) *
+                                params_.inlet.time_factor(t)
+                          : 0.0;
+  double* f[32];
+  for (int q = 0; q < nq_; ++q) f[q] = f_.component(q);
+  for (const Link& l : links_) {
+    const int q = l.q;
+    switch (l.type) {
+      case -1:  // moving-wall bounce-back with the inlet velocity (Ladd 1994)
+        f[q][l.s] = f[opp_[q]][l.x] + l.coef * u_in;
+        break;
+      case int(FaceType::kFreeSlip):
+        f[q][l.s] = f[l.q2][l.x2];
+        break;
+      case int(FaceType::kPressure): {
+        // Equilibrium at rho = 1 with the cell's own (post-collision) velocity.
+        double m = 0, jx = 0, jy = 0, jz = 0;
+        for (int p = 0; p < nq_; ++p) {
+          const double v = f[p][l.x];
+          m += v;
+          jx += c_[p][0] * v;
+          jy += c_[p][1] * v;
+          jz += c_[p][2] * v;
+        }
+        const double ux = jx / m, uy = jy / m, uz = jz / m;
+        const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
+        f[q][l.s] = w_[q] * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
+        break;
+      }
+      case int(FaceType::kZeroGradient):
+        f[q][l.s] = f[q][l.x];
+        break;
+      default:  // half-way bounce-back
+        f[q][l.s] = f[opp_[q]][l.x];
+    }
+  }
+}
+
+void LbmSolver::sweep(bool macro) {
+  const Vec3& bf = params_.body_force;
+  SweepArgs a{&f_, &f_next_, &force_, &rho_, &u_, solid_.data(),
+              {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
+               units_.force_density_to_lattice(bf.z)},
+              params_.trt ? Relaxation::trt(units_.tau(), params_.magic)
+                          : Relaxation::bgk(units_.tau())};
+  ForceMode fm = use_force_field_ ? ForceMode::kField
+                 : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
+                                                         : ForceMode::kNone;
+  SweepFn fn = params_.lattice == "D3Q15" ? pick1<D3Q15>(params_.trt, fm, macro, has_solids_)
+                                          : pick1<D3Q19>(params_.trt, fm, macro, has_solids_);
+  fn(a);
+}
+
+void LbmSolver::step(bool update_macro) {
+  double t0 = MPI_Wtime();
+  halo_->exchange();
+  double t1 = MPI_Wtime();
+  apply_boundaries();
+  double t2 = MPI_Wtime();
+  sweep(update_macro);
+  double t3 = MPI_Wtime();
+  f_.swap(f_next_);  // the halo exchange holds &f_, which now owns the new populations
+  if (update_macro) halo_u_->exchange();
+  double t4 = MPI_Wtime();
+  t_halo_ += (t1 - t0) + (t4 - t3);
+  t_boundary_ += t2 - t1;
+  t_collide_ += t3 - t2;
+  ++step_;
+  updates_ += static_cast<double>(decomp_.local_cells().product());
+}
+
+double LbmSolver::total_mass() const {
+  const Index3 n = decomp_.local_cells();
+  double local = 0;
+  for (int q = 0; q < nq_; ++q)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) local += f_(i, j, k, q);
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, decomp_.comm());
+  return global;
+}
+
+void LbmSolver::check_health(double rho_min, double rho_max) const {
+  const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo;
+  long long bad = -1;
+  double bad_rho = 0;
+  for (int k = 0; k < n.z && bad < 0; ++k)
+    for (int j = 0; j < n.y && bad < 0; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        if (solid_[f_.index(i, j, k)]) continue;
+        double m = 0;
+        for (int q = 0; q < nq_; ++q) m += f_(i, j, k, q);
+        if (!std::isfinite(m) || m < rho_min || m > rho_max) {
+          const Index3 gc{lo.x + i, lo.y + j, lo.z + k};
+          bad = (static_cast<long long>(gc.z) * decomp_.global_cells().y + gc.y) *
+                    decomp_.global_cells().x + gc.x;
+          bad_rho = m;
+          break;
+        }
+      }
+  long long first = bad < 0 ? LLONG_MAX : bad, global_first = 0;
+  MPI_Allreduce(&first, &global_first, 1, MPI_LONG_LONG, MPI_MIN, decomp_.comm());
+  if (global_first == LLONG_MAX) return;
+  double rho_bad = first == global_first ? bad_rho : 0.0, rho_report = 0;
+  MPI_Allreduce(&rho_bad, &rho_report, 1, MPI_DOUBLE, MPI_SUM, decomp_.comm());
+  const auto& N = decomp_.global_cells();
+  const long long x = global_first % N.x, y = (global_first / N.x) % N.y,
+                  z = global_first / (1LL * N.x * N.y);
+  throw core::UnstableError(fmt::format(
+      "LBM unstable at step {}: density {} outside [{}, {}] or not finite in cell ({}, {}, {}) = "
+      "({:.4g}, {:.4g}, {:.4g}) m",
+      step_, rho_report, rho_min, rho_max, x, y, z, (x + 0.5) * params_.dx, (y + 0.5) * params_.dx,
+      (z + 0.5) * params_.dx));
+}
+
+void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {
+  w.write_field("lbm_populations", f_, 0, nq_);
+  w.write_attribute("lbm_step", static_cast<std::int64_t>(step_));
+  w.write_attribute("lbm_lattice", params_.lattice);
+}
+
+void LbmSolver::read_checkpoint(io::CheckpointReader& r) {
+  const std::string lattice = r.read_attribute_string("lbm_lattice");
+  if (lattice != params_.lattice)
+    throw core::InputError(fmt::format("checkpoint uses lattice {} but the deck says lbm.lattice = "
+                                       "{}",
+                                       lattice, params_.lattice));
+  r.read_field("lbm_populations", f_, 0, nq_);
+  step_ = r.read_attribute_int("lbm_step");
+  update_macroscopic();
+}
+
+}  // namespace biota::solvers::lbm

@@ -1,0 +1,163 @@
+#pragma once
+/// \file lbm_solver.hpp
+/// \brief Lattice-Boltzmann water solver: D3Q15/D3Q19, BGK/TRT, Guo forcing, bounce-back walls and
+/// solids, free-slip, velocity inlet patch (the fountain jet), pressure / zero-gradient outlet.
+///
+/// Storage: structure of arrays, two population buffers, fused pull-stream + collide (one sweep
+/// reads Q populations from the neighbours and writes Q post-collision values). Boundaries are
+/// applied before the sweep by writing, into the ghost or solid cell a link pulls from, the value
+/// the link must deliver; the sweep itself has no boundary branches. See docs/lbm.md.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/types.hpp"
+#include "grid/decomposition.hpp"
+#include "grid/field.hpp"
+#include "grid/halo_exchange.hpp"
+#include "solvers/lbm/unit_converter.hpp"
+
+namespace biota::io {
+class CheckpointWriter;
+class CheckpointReader;
+}  // namespace biota::io
+
+namespace biota::solvers::lbm {
+
+using core::Index3;
+using core::Real;
+using core::Vec3;
+
+/// \brief Boundary type of one box face.
+enum class FaceType { kPeriodic, kWall, kFreeSlip, kPressure, kZeroGradient };
+
+/// \brief Velocity inlet on a disc of one face, speed ramped and optionally pulsed in time.
+struct InletPatch {
+  int face = -1;                ///< 2*axis + side, -1 = none
+  double center[2] = {0, 0};    ///< disc centre on the face [m] (tangential axes in x, y, z order)
+  double radius = 0;            ///< [m]
+  double speed = 0;             ///< peak speed into the domain [m/s]
+  bool parabolic = true;        ///< u(r) = speed (1 - r^2/R^2), else uniform
+  double ramp_time = 0;         ///< [s] smooth start, 0 = none
+  double pulse_amplitude = 0;   ///< relative amplitude of a sinusoidal pulsation
+  double pulse_period = 1;      ///< [s]
+  /// \brief Time factor of the speed at time t (ramp times pulsation).
+  double time_factor(double t) const;
+};
+
+/// \brief Outlet on an annulus r_min <= r <= r_max of one face.
+struct OutletPatch {
+  int face = -1;
+  double center[2] = {0, 0};
+  double r_min = 0, r_max = 1e300;
+  FaceType type = FaceType::kPressure;
+};
+
+/// \brief Everything the solver needs; from a deck with `from_config`.
+struct LbmParams {
+  std::string lattice = "D3Q15";
+  bool trt = false;
+  double magic = 3.0 / 16.0;
+  Index3 cells{32, 32, 32};
+  double dx = 0.01, dt = 1e-3, density = 998.0, viscosity = 1e-6, reference_velocity = 0.0;
+  std::array<FaceType, 6> faces{FaceType::kPeriodic, FaceType::kPeriodic, FaceType::kPeriodic,
+                                FaceType::kPeriodic, FaceType::kPeriodic, FaceType::kPeriodic};
+  Vec3 body_force{};  ///< uniform force density [N/m^3]
+  InletPatch inlet;
+  OutletPatch outlet;
+  double max_mach = 0.3;
+  /// \brief Read and check the `lbm.*` keys (tau/Mach stability is checked here: InputError).
+  static LbmParams from_config(const core::Config& cfg);
+  std::array<bool, 3> periodic() const {
+    return {faces[0] == FaceType::kPeriodic, faces[2] == FaceType::kPeriodic,
+            faces[4] == FaceType::kPeriodic};
+  }
+};
+
+/// \brief The LBM solver on one Decomposition. Lattice units inside; `units()` converts.
+class LbmSolver {
+ public:
+  /// \brief Declare every `lbm.*` key.
+  static void declare_config(core::ConfigSchema& schema);
+
+  LbmSolver(const grid::Decomposition& decomp, const LbmParams& params);
+  ~LbmSolver();
+
+  /// \brief Advance one lattice time step. With `update_macroscopic` the density and velocity
+  /// fields are stored during the sweep and their ghosts refreshed (needed for coupling/output).
+  void step(bool update_macroscopic = true);
+  long long step_index() const { return step_; }
+  double time() const { return step_ * units_.dt(); }
+
+  /// \brief Set every owned cell to equilibrium with `init(global cell index, rho, u)` (lattice).
+  void initialize(const std::function<void(const Index3&, double&, Vec3&)>& init);
+  /// \brief Per-cell force density (3 components, lattice units, 1 ghost layer) applied by Guo
+  /// forcing on top of the uniform body force once `enable_force_field()` was called.
+  grid::Field<Real>& force() { return force_; }
+  void enable_force_field() { use_force_field_ = true; }
+  /// \brief Macroscopic density / velocity (lattice units) as of the last step that stored them.
+  const grid::Field<Real>& density() const { return rho_; }
+  const grid::Field<Real>& velocity() const { return u_; }
+  /// \brief Recompute density and velocity from the populations (e.g. after initialize/restart).
+  void update_macroscopic();
+  /// \brief Solid mask (1 = solid, owned + ghost cells, ghosted linear index); call
+  /// `set_solid(...)` then `rebuild_boundaries()`.
+  void set_solid(const std::function<bool(const Index3&)>& is_solid_global);
+
+  const UnitConverter& units() const { return units_; }
+  const LbmParams& params() const { return params_; }
+  const grid::Decomposition& decomposition() const { return decomp_; }
+  int q() const { return nq_; }
+  /// \brief Sum of all populations over all ranks (lattice mass).
+  double total_mass() const;
+  /// \brief Throws core::UnstableError naming step, cell and position if a population is not
+  /// finite or the density leaves [rho_min, rho_max].
+  void check_health(double rho_min = 0.5, double rho_max = 2.0) const;
+  /// \brief Lattice updates performed by this rank so far (owned fluid cells x steps).
+  double cell_updates() const { return updates_; }
+
+  void write_checkpoint(io::CheckpointWriter& w) const;
+  void read_checkpoint(io::CheckpointReader& r);
+
+  /// \brief Timers of the last steps: stream-collide, halo, boundaries [s] on this rank.
+  double time_collide() const { return t_collide_; }
+  double time_halo() const { return t_halo_; }
+  double time_boundary() const { return t_boundary_; }
+
+ private:
+  struct Link {
+    std::int64_t s;     ///< cell the population is pulled from (ghost or solid)
+    std::int64_t x;     ///< fluid cell it streams into
+    std::int64_t x2;    ///< free-slip source cell
+    std::int32_t q, q2;  ///< population index, free-slip source population
+    std::int32_t type;   ///< FaceType or inlet (-1)
+    double coef;        ///< inlet: 6 w_q (c_q.n) profile
+  };
+  void build_links();
+  void apply_boundaries();
+  void sweep(bool macro);
+
+  const grid::Decomposition& decomp_;
+  LbmParams params_;
+  UnitConverter units_;
+  int nq_;
+  std::vector<std::array<int, 3>> c_;
+  std::vector<double> w_;
+  std::vector<int> opp_;
+  grid::Field<Real> f_, f_next_, force_, rho_, u_;
+  std::vector<std::uint8_t> solid_;
+  bool has_solids_ = false, use_force_field_ = false;
+  std::unique_ptr<grid::HaloExchange> halo_, halo_u_;
+  std::vector<Link> links_;
+  long long step_ = 0;
+  double updates_ = 0, t_collide_ = 0, t_halo_ = 0, t_boundary_ = 0;
+};
+
+/// \brief Parse a face key value ("periodic", "wall", ...); InputError on unknown names.
+FaceType parse_face_type(const core::Config& cfg, const std::string& key);
+
+}  // namespace biota::solvers::lbm
