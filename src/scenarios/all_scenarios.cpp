@@ -1,5 +1,6 @@
 #include "scenarios/scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
+#include "scenarios/wind_scenario.hpp"
 
 namespace biota::scenarios {
 
@@ -9,6 +10,11 @@ std::vector<ScenarioInfo> all_scenarios() {
        &TankScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<TankScenario>(c);
+       }},
+      {"wind", "wind over open ground on the staggered MAC solver (tree paper section 4)",
+       &WindScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<WindScenario>(c);
        }},
   };
 }

@@ -25,7 +25,7 @@ const std::string& to_string(BoundaryType t) {
 }
 
 std::string face_name(int axis, int side) {
-  return std::string(1, "xyz"[axis]) + (side ? "_high" : "_low");
+  return std::string(1, "xyz"[axis]) + (side ? "_hi" : "_lo");
 }
 
 void validate(const Boundaries& b, const std::string& prefix) {

@@ -25,7 +25,7 @@ const std::vector<std::string>& boundary_type_names();
 /// \brief Parse a name; throws core::InputError naming `key` and the allowed names.
 BoundaryType parse_boundary_type(const std::string& name, const std::string& key);
 const std::string& to_string(BoundaryType t);
-/// \brief Face names x_low, x_high, y_low, ... for [axis][side].
+/// \brief Face names x_lo, x_hi, y_lo, ... for [axis][side] (as in the LBM decks).
 std::string face_name(int axis, int side);
 
 /// \brief One face: its type and (no-slip) wall velocity.

@@ -429,8 +429,9 @@ StepStats MacSolver::next_dt() const {
   return s;
 }
 
-void MacSolver::step() {
+void MacSolver::step(Real dt_limit) {
   stats_ = next_dt();
+  stats_.dt = std::min(stats_.dt, dt_limit);
   const Real dt = stats_.dt;
   if (p_.scheme == TimeScheme::kEuler) {
     predict(u_, u_, 0.0, dt, ustar_);

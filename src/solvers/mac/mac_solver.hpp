@@ -75,8 +75,9 @@ class MacSolver {
   MacSolver(const grid::Decomposition& decomp, MacParams params, core::Timers& timers);
   ~MacSolver();
 
-  /// \brief Advance one step with the adaptive (or fixed) dt.
-  void step();
+  /// \brief Advance one step with the adaptive (or fixed) dt, but at most `dt_limit` (so a
+  /// caller can land exactly on a coupling or output time).
+  void step(Real dt_limit = 1e300);
   /// \brief The dt the next step will use and the two limits (collective).
   StepStats next_dt() const;
   const StepStats& last_stats() const { return stats_; }

@@ -26,7 +26,7 @@ int world_rank() {
   return r;
 }
 
-/// Wind over rough ground past a block: log inflow at x_low, convective outflow at x_high,
+/// Wind over rough ground past a block: log inflow at x_lo, convective outflow at x_hi,
 /// periodic y, ground below, free slip on top. Uneven cell counts for uneven splits.
 MacParams wind_case() {
   MacParams p;

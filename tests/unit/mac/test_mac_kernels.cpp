@@ -34,14 +34,14 @@ TEST(MacKernels, LogProfile) {
 TEST(MacBoundary, ParseAndValidate) {
   EXPECT_EQ(parse_boundary_type("ground", "k"), BoundaryType::kGround);
   try {
-    parse_boundary_type("slippy", "wind.boundary.x_low");
+    parse_boundary_type("slippy", "wind.boundary.x_lo");
     FAIL();
   } catch (const biota::core::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("wind.boundary.x_low"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("wind.boundary.x_lo"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("slippy"), std::string::npos);
   }
   Boundaries b;
-  b[0][0].type = BoundaryType::kPeriodic;  // x_high is still noslip
+  b[0][0].type = BoundaryType::kPeriodic;  // x_hi is still noslip
   EXPECT_THROW(validate(b, "wind.boundary."), biota::core::InputError);
   b[0][0].type = BoundaryType::kInflow;  // inflow without outflow
   EXPECT_THROW(validate(b, "wind.boundary."), biota::core::InputError);
