@@ -18,7 +18,9 @@ void initialize(const std::vector<std::string>& petsc_args);
 void initialize(int argc, char** argv);
 /// \brief Start PETSc without options if nobody did.
 void ensure_initialized();
-/// \brief Finalise PETSc (before MPI_Finalize). No-op if PETSc was not started here.
+/// \brief Finalise PETSc. No-op if PETSc was not started here. Called automatically at the
+/// start of MPI_Finalize (an MPI_COMM_SELF attribute) if nobody called it before; PETSc cannot be
+/// started again afterwards.
 void finalize();
 /// \brief True between initialize and finalize.
 bool initialized();

@@ -126,10 +126,8 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
         step_time_);
 }
 
-WindScenario::~WindScenario() {
-  mac_.reset();  // PETSc objects go before PETSc itself
-  linalg::finalize();
-}
+// PETSc itself is finalised at MPI_Finalize (linalg::initialize arranges it), after this.
+WindScenario::~WindScenario() = default;
 
 void WindScenario::step() {
   const double target = (step_ + 1) * step_time_;
