@@ -28,13 +28,6 @@ bool is_option_name(const std::string& w) {
 }
 }  // namespace
 
-// MPI_Finalize deletes MPI_COMM_SELF's attributes before anything else, so PETSc is finalised
-// there if the app did not do it (PETSc objects must be gone by then).
-int finalize_at_mpi_finalize(MPI_Comm, int, void*, void*) {
-  finalize();
-  return MPI_SUCCESS;
-}
-
 bool initialized() {
   PetscBool init = PETSC_FALSE;
   PetscInitialized(&init);
@@ -62,9 +55,6 @@ void initialize(int argc, char** argv) {
     if (!mpi_init) throw std::logic_error("linalg::initialize: MPI_Init must come first");
     check(PetscInitialize(&argc, &argv, nullptr, nullptr), "PetscInitialize");
     we_initialized = true;
-    int keyval = MPI_KEYVAL_INVALID;
-    MPI_Comm_create_keyval(MPI_COMM_NULL_COPY_FN, finalize_at_mpi_finalize, &keyval, nullptr);
-    MPI_Comm_set_attr(MPI_COMM_SELF, keyval, nullptr);
   } else {
     std::string joined;
     for (int i = 1; i < argc; ++i) joined += std::string(argv[i]) + " ";

@@ -18,9 +18,9 @@ void initialize(const std::vector<std::string>& petsc_args);
 void initialize(int argc, char** argv);
 /// \brief Start PETSc without options if nobody did.
 void ensure_initialized();
-/// \brief Finalise PETSc. No-op if PETSc was not started here. Called automatically at the
-/// start of MPI_Finalize (an MPI_COMM_SELF attribute) if nobody called it before; PETSc cannot be
-/// started again afterwards.
+/// \brief Finalise PETSc (before MPI_Finalize; every PETSc object must be gone). No-op if PETSc
+/// was not started here. PETSc 3.18 can be initialised again afterwards (checked). The owner of
+/// the PETSc objects calls it (the wind scenario's destructor, test environments, the benchmark).
 void finalize();
 /// \brief True between initialize and finalize.
 bool initialized();

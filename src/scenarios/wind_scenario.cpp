@@ -126,8 +126,10 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
         step_time_);
 }
 
-// PETSc itself is finalised at MPI_Finalize (linalg::initialize arranges it), after this.
-WindScenario::~WindScenario() = default;
+WindScenario::~WindScenario() {
+  mac_.reset();  // PETSc objects go before PETSc itself
+  linalg::finalize();
+}
 
 void WindScenario::step() {
   const double target = (step_ + 1) * step_time_;
