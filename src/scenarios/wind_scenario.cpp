@@ -107,6 +107,7 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   auto p = wind_params_from_config(ctx.config);
   step_time_ = ctx.config.get_real("wind.step_time");
   air_density_ = ctx.config.get_real("wind.air_density");
+  owns_petsc_ = !linalg::initialized();  // whoever starts PETSc ends it
   linalg::initialize(ctx.solver_options);
   std::array<bool, 3> periodic;
   for (int a = 0; a < 3; ++a) periodic[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
@@ -128,7 +129,7 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
 
 WindScenario::~WindScenario() {
   mac_.reset();  // PETSc objects go before PETSc itself
-  linalg::finalize();
+  if (owns_petsc_) linalg::finalize();
 }
 
 void WindScenario::step() {

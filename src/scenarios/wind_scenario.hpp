@@ -40,6 +40,7 @@ class WindScenario : public Scenario {
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::mac::MacSolver> mac_;
   double step_time_ = 0.05, air_density_ = 1.2;
+  bool owns_petsc_ = false;  ///< this scenario started PETSc, so its destructor finalises it
   long long step_ = 0, substeps_ = 0, last_substeps_ = 0;
   long long poisson_its_ = 0, last_poisson_its_ = 0;
 };

@@ -74,6 +74,8 @@ class MacSolver {
   /// wind.halo, wind.boundary.
   MacSolver(const grid::Decomposition& decomp, MacParams params, core::Timers& timers);
   ~MacSolver();
+  MacSolver(const MacSolver&) = delete;  // the halo exchanges point into the member fields
+  MacSolver& operator=(const MacSolver&) = delete;
 
   /// \brief Advance one step with the adaptive (or fixed) dt, but at most `dt_limit` (so a
   /// caller can land exactly on a coupling or output time).
