@@ -144,6 +144,7 @@ struct SoaPush : SoaTwoGrid<L> {
     offsets<L>(this->a, off);
     const double* sp[Q];
     double* dp[Q];
+#pragma GCC unroll 32
     for (int q = 0; q < Q; ++q) {
       sp[q] = this->a.component(q);
       dp[q] = this->b.component(q) + off[q];
@@ -154,12 +155,15 @@ struct SoaPush : SoaTwoGrid<L> {
 #pragma GCC ivdep
         for (std::ptrdiff_t c = row; c < row + n; ++c) {
           double f[Q], rho, ux, uy, uz;
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) f[q] = sp[q][c];
           solvers::lbm::collide<L, false>(f, this->r, 0, 0, 0, rho, ux, uy, uz);
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) dp[q][c] = f[q];
         }
       }
     int slot[Q];
+#pragma GCC unroll 32
     for (int q = 0; q < Q; ++q) slot[q] = q;
     fold_ghosts<L>(this->b, slot);
     this->a.swap(this->b);
@@ -212,6 +216,7 @@ struct SoaPullNt : SoaTwoGrid<L> {
     offsets<L>(this->a, off);
     const double* sp[Q];
     double* dp[Q];
+#pragma GCC unroll 32
     for (int q = 0; q < Q; ++q) {
       sp[q] = this->a.component(q) - off[q];
       dp[q] = this->b.component(q);
@@ -223,10 +228,13 @@ struct SoaPullNt : SoaTwoGrid<L> {
 #pragma GCC ivdep
         for (std::ptrdiff_t i = 0; i < n; ++i) {
           double f[Q], rho, ux, uy, uz;
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) f[q] = sp[q][row + i];
           solvers::lbm::collide<L, false>(f, this->r, 0, 0, 0, rho, ux, uy, uz);
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) rb[q * n + i] = f[q];
         }
+#pragma GCC unroll 32
         for (int q = 0; q < Q; ++q) nt_copy(dp[q] + row, rb + q * n, n);
       }
     nt_fence();
@@ -254,6 +262,7 @@ struct SoaAA {
     double* wp[Q];
     const bool odd = parity++ & 1;
     if (odd) fill_ghosts(a);
+#pragma GCC unroll 32
     for (int q = 0; q < Q; ++q) {
       rp[q] = odd ? a.component(L::opp[q]) - off[q] : a.component(q);
       wp[q] = odd ? a.component(q) + off[q] : a.component(L::opp[q]);
@@ -266,13 +275,16 @@ struct SoaAA {
 #pragma GCC ivdep
         for (std::ptrdiff_t c = row; c < row + n; ++c) {
           double f[Q], rho, ux, uy, uz;
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) f[q] = rp[q][c];
           solvers::lbm::collide<L, false>(f, r, 0, 0, 0, rho, ux, uy, uz);
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) wp[q][c] = f[q];
         }
       }
     if (odd) {
       int slot[Q];
+#pragma GCC unroll 32
       for (int q = 0; q < Q; ++q) slot[q] = q;
       fold_ghosts<L>(a, slot);
     }
@@ -311,6 +323,7 @@ struct AosPull {
   void step() {
     fill();
     std::ptrdiff_t off[Q];
+#pragma GCC unroll 32
     for (int q = 0; q < Q; ++q)
       off[q] = (L::c[q][0] + L::c[q][1] * s + L::c[q][2] * std::ptrdiff_t(s) * s) * Q - q;
     const double* sp = a.data();
@@ -321,8 +334,10 @@ struct AosPull {
 #pragma GCC ivdep
         for (std::ptrdiff_t c = row; c < row + n; ++c) {
           double f[Q], rho, ux, uy, uz;
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) f[q] = sp[c * Q - off[q]];
           solvers::lbm::collide<L, false>(f, r, 0, 0, 0, rho, ux, uy, uz);
+#pragma GCC unroll 32
           for (int q = 0; q < Q; ++q) dp[c * Q + q] = f[q];
         }
       }
