@@ -38,6 +38,9 @@ inline void collide(double* f, const Relaxation& r, double fx, double fy, double
                     double& ux, double& uy, double& uz) {
   constexpr int Q = L::Q;
   double m0 = 0, jx = 0, jy = 0, jz = 0;
+  // The Q-loops are unrolled completely (#pragma GCC unroll) so that the caller's cell loop is
+  // vectorised: GCC 12 does not vectorise a loop nest with several consecutive inner loops
+  // (docs/performance-lbm-layout.md). Same operations in the same order, so same bits.
 #pragma GCC unroll 32
   for (int i = 0; i < Q; ++i) {
     m0 += f[i];
