@@ -492,20 +492,18 @@ void FlockScenario::step() {
       const double dstar = set_->real(a_dstar_)[i];
       mf::NeighbourSums s;
       if (align_mode_ == mf::AlignmentMode::kAverage) {
-        // Blocks: a vectorised perception mask, a branch-free compaction, then the sums over the
-        // accepted neighbours in visit order (the order that makes them decomposition-invariant).
+        // Blocks: a vectorised perception mask compacted to the accepted slots, then the sums over
+        // the accepted neighbours in visit order (the order that makes them
+        // decomposition-invariant).
         const double v2 = core::dot(v, v), c2 = fov_cos_ * fov_cos_;
         std::size_t cnt = 0;
         cells_.for_each_near_block(x, [&](std::size_t first, std::size_t last) {
           const std::size_t n = last - first;
           if (mask_.size() < n) mask_.resize(2 * n);
-          if (accepted_.size() < cnt + n) accepted_.resize(2 * (cnt + n));
-          mf::perceive_block(X + first, Y + first, Z + first, eligible_.data() + first, n, x, v, v2,
-                             R2, fov_cos_, c2, mask_.data());
-          for (std::size_t q = 0; q < n; ++q) {
-            accepted_[cnt] = static_cast<std::uint32_t>(first + q);
-            cnt += mask_[q];
-          }
+          if (accepted_.size() < cnt + n + 8) accepted_.resize(2 * (cnt + n + 8));
+          cnt += mf::perceive_compact(X + first, Y + first, Z + first, eligible_.data() + first,
+                                      first, n, x, v, v2, R2, fov_cos_, c2, accepted_.data() + cnt,
+                                      mask_.data());
         });
         for (std::size_t a = 0; a < cnt; ++a) {
           const std::size_t j = accepted_[a];

@@ -135,7 +135,7 @@ class FlockScenario : public Scenario {
   std::vector<double> svx_, svy_, svz_;
   std::vector<std::uint64_t> eligible_;
   std::vector<std::uint64_t> mask_;      // perception mask of one block of candidates
-  std::vector<std::uint32_t> accepted_;  // accepted candidate slots of one boid, visit order
+  std::vector<std::uint64_t> accepted_;  // accepted candidate slots of one boid, visit order
   // Statistics.
   int stats_every_ = 1;
   double last_phi_ = 0;

@@ -9,6 +9,10 @@
 ///     aligned bins, which makes floating-point sums decomposition-invariant);
 ///  2. the rule accelerations (separation, alignment, cohesion, flee, chase, soft walls);
 ///  3. prioritized_sum() — Reynolds' prioritised acceleration allocation — then integrate().
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -117,6 +121,62 @@ inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
     mask[k] = static_cast<std::uint64_t>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
                                          (all_round | cone));
   }
+}
+
+/// \brief The accepted candidates of a block, compacted: writes base + k for every candidate k
+/// with `eligible && perceives(...)` to `out` in increasing k and returns their number. `out` needs
+/// room for n + 8 entries, `scratch` for n (used by the portable path only).
+///
+/// With AVX-512 every candidate, the tail included, goes through the same masked 8-lane code (so
+/// the decision for a candidate never depends on its position in the block, which differs between
+/// decompositions) and is compacted in a register (vpcompressq to a register: fast on AMD and
+/// Intel, unlike the store form). Without AVX-512: perceive_block() and a scalar compaction.
+inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
+                                    const std::uint64_t* eligible, std::size_t base, std::size_t n,
+                                    const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                                    Real fov_cos, Real c2, std::uint64_t* out,
+                                    std::uint64_t* scratch) {
+  std::size_t cnt = 0;
+#if defined(__AVX512F__)
+  (void)scratch;
+  const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
+  const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
+  const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
+  const __m512d cv = _mm512_set1_pd(c2 * v2);
+  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
+  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+  for (std::size_t k = 0; k < n; k += 8) {
+    const __mmask8 tm = n - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (n - k)) - 1);
+    const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
+    const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
+    const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
+    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+                                     _mm512_mul_pd(dz, dz));
+    __mmask8 m = tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) &
+                 _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ) &
+                 _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
+                                             _mm512_set1_epi64(-1));
+    if (!all_round) {
+      const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
+                                       _mm512_mul_pd(vz, dz));
+      const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
+      const __mmask8 ahead = _mm512_cmp_pd_mask(vd, zero, _CMP_GE_OQ);
+      m &= narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
+                  : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
+    }
+    const __m512i idx =
+        _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(base + k)), lanes);
+    _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
+    cnt += static_cast<std::size_t>(__builtin_popcount(m));
+  }
+#else
+  perceive_block(X, Y, Z, eligible, n, x, v, v2, radius2, fov_cos, c2, scratch);
+  for (std::size_t k = 0; k < n; ++k) {
+    out[cnt] = base + k;
+    cnt += scratch[k];
+  }
+#endif
+  return cnt;
 }
 
 /// \brief Separation acceleration w_sep Σ (x_b - x_j)(d* - r)/r (spec 2.1; units of w: 1/s²).

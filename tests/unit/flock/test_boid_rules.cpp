@@ -157,13 +157,25 @@ TEST(BoidKernels, PerceiveBlockMatchesPerceives) {
       }
       perceive_block(X.data(), Y.data(), Z.data(), elig.data(), 300, x, v, biota::core::dot(v, v),
                      4.0, fc, fc * fc, mask.data());
+      // Compacted form on blocks of every length 1..40 (tails of the 8-lane path included).
+      std::vector<std::uint64_t> got, out(300 + 8), scratch(300);
+      for (std::size_t first = 0, len = 1; first < 300; first += len, len = len % 40 + 1) {
+        const std::size_t n = std::min<std::size_t>(len, 300 - first);
+        const std::size_t c = perceive_compact(
+            X.data() + first, Y.data() + first, Z.data() + first, elig.data() + first, first, n, x,
+            v, biota::core::dot(v, v), 4.0, fc, fc * fc, out.data(), scratch.data());
+        got.insert(got.end(), out.begin(), out.begin() + c);
+      }
+      std::vector<std::uint64_t> want_idx;
       int accepted = 0;
       for (int k = 0; k < 300; ++k) {
         const Vec3 d{X[k] - x.x, Y[k] - x.y, Z[k] - x.z};
         const bool want = elig[k] && perceives(v, d, biota::core::dot(d, d), 4.0, fc);
         EXPECT_EQ(mask[k] != 0, want) << "fov " << fov_deg << " k " << k;
         accepted += want;
+        if (want) want_idx.push_back(k);
       }
+      EXPECT_EQ(got, want_idx) << "fov " << fov_deg;
       total += accepted;
     }
   }
