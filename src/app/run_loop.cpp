@@ -24,12 +24,12 @@ bool rank0(MPI_Comm comm) {
 
 // Create `dir` on rank 0; every rank learns whether it worked (InputError naming `key` if not).
 void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
-                const std::string& dir) {
+                const std::string& dir, bool with_vtk) {
   std::string err;
   if (rank0(comm)) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    std::filesystem::create_directories(std::filesystem::path(dir) / "vtk", ec);
+    if (with_vtk && !ec) std::filesystem::create_directories(std::filesystem::path(dir) / "vtk", ec);
     const auto probe = std::filesystem::path(dir) / ".biota_write_test";
     FILE* f = ec ? nullptr : std::fopen(probe.c_str(), "w");
     if (!f)
@@ -94,8 +94,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     if (root) fmt::print("restarted from {} at step {}, t = {:.6g} s\n", restart_path,
                          scenario->step_index(), scenario->time());
   }
-  ensure_dir(comm, cfg, "output.dir", out_dir);
-  ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir);
+  ensure_dir(comm, cfg, "output.dir", out_dir, true);
+  ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
 
   const double dt = scenario->dt();
   long long last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;

@@ -58,6 +58,7 @@ std::optional<ConfigValue> convert(const toml::node& node, ConfigType type) {
 }
 
 std::string node_text(const toml::node& node) {
+  if (node.is_floating_point()) return fmt::format("{}", *node.value<double>());
   std::ostringstream os;
   node.visit([&](auto&& n) { os << n; });
   return os.str();

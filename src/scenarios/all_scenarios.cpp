@@ -1,4 +1,5 @@
 #include "scenarios/scenario.hpp"
+#include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
 #include "scenarios/wind_scenario.hpp"
 
@@ -10,6 +11,12 @@ std::vector<ScenarioInfo> all_scenarios() {
        &TankScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<TankScenario>(c);
+       }},
+      {"seaweed",
+       "Ulva population grown stochastically, rigid-sphere bodies in the LBM fountain tank",
+       &SeaweedScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<SeaweedScenario>(c);
        }},
       {"wind", "wind over open ground on the staggered MAC solver (tree paper section 4)",
        &WindScenario::declare_config,

@@ -124,7 +124,9 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   const bool has_tau = cfg.has("lbm.tau"), has_nu = cfg.has("lbm.viscosity");
   if (has_tau == has_nu)
     cfg.fail(has_tau ? "lbm.tau" : "lbm.viscosity",
-             "; give exactly one of lbm.tau (0.5, 5] or lbm.viscosity (0, inf)");
+             has_tau ? "conflicts with lbm.viscosity; give exactly one of lbm.tau (0.5, 5] or "
+                       "lbm.viscosity (0, inf)"
+                     : "is missing; give exactly one of lbm.tau (0.5, 5] or lbm.viscosity (0, inf)");
   p.viscosity = has_nu ? cfg.get_real("lbm.viscosity")
                        : (cfg.get_real("lbm.tau") - 0.5) / 3.0 * p.dx * p.dx / p.dt;
   for (int f = 0; f < 6; ++f)

@@ -1,0 +1,51 @@
+#pragma once
+/// \file quat.hpp
+/// \brief Unit quaternions for orientations (rigid spheres, growth frames).
+#include <cmath>
+
+#include "core/types.hpp"
+
+namespace biota::core {
+
+/// \brief Quaternion w + xi + yj + zk; unit quaternions represent rotations.
+struct Quat {
+  Real w = 1, x = 0, y = 0, z = 0;
+  friend Quat operator*(const Quat& a, const Quat& b) {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+            a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+            a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  }
+  Quat conj() const { return {w, -x, -y, -z}; }
+  Quat normalized() const {
+    const Real n = std::sqrt(w * w + x * x + y * y + z * z);
+    return {w / n, x / n, y / n, z / n};
+  }
+  /// \brief Rotate vector v (v' = q v q*).
+  Vec3 rotate(const Vec3& v) const {
+    const Vec3 u{x, y, z};
+    const Vec3 t = 2.0 * cross(u, v);
+    return v + w * t + cross(u, t);
+  }
+  /// \brief Rotation of `angle` (rad) about unit `axis`.
+  static Quat axis_angle(const Vec3& axis, Real angle) {
+    const Real s = std::sin(0.5 * angle);
+    return {std::cos(0.5 * angle), axis.x * s, axis.y * s, axis.z * s};
+  }
+  /// \brief Rotation vector (axis * angle, angle in [0, pi]) of this unit quaternion.
+  Vec3 rotation_vector() const {
+    Quat q = w < 0 ? Quat{-w, -x, -y, -z} : *this;
+    const Real s = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+    if (s < 1e-12) return {2 * q.x, 2 * q.y, 2 * q.z};
+    const Real angle = 2 * std::atan2(s, q.w);
+    return Vec3{q.x, q.y, q.z} * (angle / s);
+  }
+  /// \brief Advance by angular velocity omega (world frame) over dt (exact exponential map).
+  Quat integrated(const Vec3& omega, Real dt) const {
+    const Real wn = norm(omega);
+    if (wn * dt < 1e-15) return *this;
+    return (axis_angle(omega / wn, wn * dt) * (*this)).normalized();
+  }
+};
+
+}  // namespace biota::core

@@ -1,0 +1,262 @@
+#include "io/particle_output.hpp"
+
+#include <fmt/format.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkTypeUInt64Array.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "io/hdf5_util.hpp"
+#include "io/pvd_series.hpp"
+
+namespace biota::io {
+
+namespace {
+
+// Exclusive prefix sum and total of a per-rank count (fixes the offsets of rank blocks).
+std::pair<hsize_t, hsize_t> offset_and_total(MPI_Comm comm, std::size_t n) {
+  unsigned long long mine = n, before = 0, total = 0;
+  MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) before = 0;  // MPI_Exscan leaves rank 0's result undefined
+  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  return {before, total};
+}
+
+void check_sizes(const ParticleData& d) {
+  const std::size_t n = d.ids.size();
+  if (d.positions.size() != 3 * n) throw std::logic_error("ParticleOutput: positions != 3 * ids");
+  if (d.owned > n) throw std::logic_error("ParticleOutput: owned > points");
+  for (const auto& [name, v] : d.scalars)
+    if (v.size() != n) throw std::logic_error("ParticleOutput: scalar " + name + " has wrong size");
+  for (const auto& [name, v] : d.vectors)
+    if (v.size() != 3 * n)
+      throw std::logic_error("ParticleOutput: vector " + name + " has wrong size");
+  for (const auto& l : d.lines)
+    if (l[0] >= n || l[1] >= n) throw std::logic_error("ParticleOutput: line index out of range");
+  for (const auto& [name, v] : d.line_scalars)
+    if (v.size() != d.lines.size())
+      throw std::logic_error("ParticleOutput: line scalar " + name + " has wrong size");
+}
+
+// Rows [0, rows) of a column-major-by-point array with `ncomp` values per point.
+std::vector<double> head(const std::vector<double>& v, std::size_t rows, int ncomp) {
+  return {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rows * ncomp)};
+}
+
+}  // namespace
+
+ParticleOutput::ParticleOutput(MPI_Comm comm, std::string dir, std::string prefix, long long step,
+                               double time, std::string effective_config)
+    : comm_(comm),
+      dir_(std::move(dir)),
+      prefix_(std::move(prefix)),
+      step_(step),
+      time_(time),
+      config_(std::move(effective_config)) {}
+
+void ParticleOutput::write(const ParticleData& d) {
+  check_sizes(d);
+  namespace fs = std::filesystem;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &size);
+  const std::string stem = fmt::format("{}_{:06d}", prefix_, step_);
+  const fs::path vtk_dir = fs::path(dir_) / "vtk";
+  if (rank == 0) fs::create_directories(vtk_dir);
+  MPI_Barrier(comm_);
+
+  // ---------------- HDF5: owned points in rank order at Exscan offsets; each line with its own
+  // two end points (a line may end on a ghost copy whose row lives on another rank, so lines
+  // carry their geometry instead of indices into the point rows).
+  const std::size_t no = d.owned, nl = d.lines.size();
+  const auto [p_off, p_tot] = offset_and_total(comm_, no);
+  const auto [l_off, l_tot] = offset_and_total(comm_, nl);
+  hid_t file = h5::create_parallel(fs::path(dir_) / (stem + ".h5"), comm_);
+  h5::write_string_attribute(file, "config", config_);
+  h5::write_double_attribute(file, "time", time_);
+  h5::write_int_attribute(file, "step", step_);
+  h5::write_int_attribute(file, "points", static_cast<long long>(p_tot));
+  h5::write_int_attribute(file, "lines", static_cast<long long>(l_tot));
+  auto write_rows = [&](const std::string& name, const void* data, int ncomp, hsize_t off,
+                        hsize_t total, std::size_t count, hid_t type = H5T_NATIVE_DOUBLE) {
+    std::vector<hsize_t> g = {total}, o = {off}, c = {count};
+    if (ncomp > 1) g.push_back(ncomp), o.push_back(0), c.push_back(ncomp);
+    h5::write_block(file, name, g, o, c, static_cast<const double*>(data), type);
+  };
+  write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
+  write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
+  for (const auto& [name, v] : d.scalars)
+    write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
+  for (const auto& [name, v] : d.vectors)
+    write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+  {
+    std::vector<double> lpos(6 * nl);
+    std::vector<std::uint64_t> lids(2 * nl), conn(2 * nl);
+    for (std::size_t k = 0; k < nl; ++k)
+      for (int e = 0; e < 2; ++e) {
+        const std::size_t p = d.lines[k][e];
+        for (int c = 0; c < 3; ++c) lpos[6 * k + 3 * e + c] = d.positions[3 * p + c];
+        lids[2 * k + e] = d.ids[p];
+        conn[2 * k + e] = 2 * (l_off + k) + e;
+      }
+    write_rows("/lines/position", lpos.data(), 3, 2 * l_off, 2 * l_tot, 2 * nl);
+    write_rows("/lines/connectivity", conn.data(), 2, l_off, l_tot, nl, H5T_NATIVE_UINT64);
+    write_rows("/lines/id", lids.data(), 2, l_off, l_tot, nl, H5T_NATIVE_UINT64);
+    for (const auto& [name, v] : d.line_scalars)
+      write_rows("/lines/" + name, v.data(), 1, l_off, l_tot, nl);
+  }
+  H5Fclose(file);
+
+  // ---------------- VTK piece of this rank: all points (ghost copies flagged), owned points as
+  // vertices, segments as lines.
+  const std::size_t np = d.ids.size();
+  const std::string piece = fmt::format("{}_{:04d}.vtp", stem, rank);
+  {
+    vtkNew<vtkPolyData> poly;
+    vtkNew<vtkPoints> pts;
+    pts->SetDataTypeToDouble();
+    pts->SetNumberOfPoints(static_cast<vtkIdType>(np));
+    for (std::size_t i = 0; i < np; ++i)
+      pts->SetPoint(static_cast<vtkIdType>(i), d.positions[3 * i], d.positions[3 * i + 1],
+                    d.positions[3 * i + 2]);
+    poly->SetPoints(pts);
+    vtkNew<vtkCellArray> verts, lines;
+    for (std::size_t i = 0; i < no; ++i) {
+      const vtkIdType v = static_cast<vtkIdType>(i);
+      verts->InsertNextCell(1, &v);
+    }
+    for (const auto& l : d.lines) {
+      const vtkIdType ab[2] = {static_cast<vtkIdType>(l[0]), static_cast<vtkIdType>(l[1])};
+      lines->InsertNextCell(2, ab);
+    }
+    poly->SetVerts(verts);
+    poly->SetLines(lines);
+    vtkNew<vtkTypeUInt64Array> ids;
+    ids->SetName("id");
+    ids->SetNumberOfTuples(static_cast<vtkIdType>(np));
+    std::copy(d.ids.begin(), d.ids.end(), ids->GetPointer(0));
+    poly->GetPointData()->AddArray(ids);
+    vtkNew<vtkUnsignedCharArray> ghost;
+    ghost->SetName("ghost");
+    ghost->SetNumberOfTuples(static_cast<vtkIdType>(np));
+    for (std::size_t i = 0; i < np; ++i) ghost->SetValue(static_cast<vtkIdType>(i), i >= no);
+    poly->GetPointData()->AddArray(ghost);
+    auto add_point_array = [&](const std::string& name, const std::vector<double>& v, int nc) {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName(name.c_str());
+      a->SetNumberOfComponents(nc);
+      a->SetNumberOfTuples(static_cast<vtkIdType>(np));
+      std::copy(v.begin(), v.end(), a->GetPointer(0));
+      poly->GetPointData()->AddArray(a);
+    };
+    for (const auto& [name, v] : d.scalars) add_point_array(name, v, 1);
+    for (const auto& [name, v] : d.vectors) add_point_array(name, v, 3);
+    // Cell data covers verts first, then lines (VTK's cell order); verts get NaN.
+    for (const auto& [name, v] : d.line_scalars) {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName(name.c_str());
+      a->SetNumberOfTuples(static_cast<vtkIdType>(no + nl));
+      for (std::size_t i = 0; i < no; ++i) a->SetValue(static_cast<vtkIdType>(i), std::nan(""));
+      for (std::size_t k = 0; k < nl; ++k) a->SetValue(static_cast<vtkIdType>(no + k), v[k]);
+      poly->GetCellData()->AddArray(a);
+    }
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetInputData(poly);
+    writer->SetFileName((vtk_dir / piece).string().c_str());
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    if (!writer->Write())
+      throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
+  }
+  MPI_Barrier(comm_);
+  if (rank != 0) return;
+
+  // ---------------- .pvtp index, .pvd series, XDMF (rank 0).
+  {
+    std::ofstream out(vtk_dir / (stem + ".pvtp"));
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
+           "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n"
+           "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
+    out << "<PPointData>\n<PDataArray type=\"UInt64\" Name=\"id\"/>\n"
+           "<PDataArray type=\"UInt8\" Name=\"ghost\"/>\n";
+    for (const auto& [name, v] : d.scalars)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+    for (const auto& [name, v] : d.vectors)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\"/>\n",
+                         name);
+    out << "</PPointData>\n<PCellData>\n";
+    for (const auto& [name, v] : d.line_scalars)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+    out << "</PCellData>\n";
+    for (int r = 0; r < size; ++r)
+      out << fmt::format("<Piece Source=\"{}_{:04d}.vtp\"/>\n", stem, r);
+    out << "</PPolyData>\n</VTKFile>\n";
+  }
+  update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_, "vtk/" + stem + ".pvtp");
+  {
+    std::ofstream out(fs::path(dir_) / (stem + ".xmf"));
+    const std::string h5 = stem + ".h5";
+    out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
+    out << fmt::format(
+        "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+        "<Time Value=\"{:.17g}\"/>\n",
+        prefix_, time_);
+    if (p_tot > 0) {
+      out << fmt::format(
+          "<Grid Name=\"points\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{0}\" NodesPerElement=\"1\"/>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{0} 3\">{1}:/points/position</DataItem></Geometry>\n"
+          "<Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+          "Format=\"HDF\" "
+          "NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/id</DataItem>"
+          "</Attribute>\n",
+          p_tot, h5);
+      for (const auto& [name, v] : d.scalars)
+        out << fmt::format(
+            "<Attribute Name=\"{2}\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/{2}"
+            "</DataItem></Attribute>\n",
+            p_tot, h5, name);
+      for (const auto& [name, v] : d.vectors)
+        out << fmt::format(
+            "<Attribute Name=\"{2}\" AttributeType=\"Vector\" Center=\"Node\"><DataItem "
+            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0} 3\">"
+            "{1}:/points/{2}</DataItem></Attribute>\n",
+            p_tot, h5, name);
+      out << "</Grid>\n";
+    }
+    if (l_tot > 0) {
+      out << fmt::format(
+          "<Grid Name=\"lines\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Polyline\" NumberOfElements=\"{0}\" NodesPerElement=\"2\">"
+          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 2\">"
+          "{1}:/lines/connectivity</DataItem></Topology>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
+          l_tot, h5, 2 * l_tot);
+      for (const auto& [name, v] : d.line_scalars)
+        out << fmt::format(
+            "<Attribute Name=\"{2}\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem "
+            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0}\">{1}:/lines/{2}"
+            "</DataItem></Attribute>\n",
+            l_tot, h5, name);
+      out << "</Grid>\n";
+    }
+    out << "</Grid>\n</Domain>\n</Xdmf>\n";
+  }
+}
+
+}  // namespace biota::io

@@ -1,0 +1,49 @@
+#pragma once
+/// \file particle_output.hpp
+/// \brief Output of one particle set at one output step: VTK PolyData (.vtp piece per rank +
+/// .pvtp, appended to <dir>/<prefix>.pvd) and the particles in an HDF5 file as global datasets
+/// gathered by offsets (exclusive scan), with an XDMF (Polyvertex / Polyline) index beside it.
+///
+/// Files: <dir>/<prefix>_<step>.h5 (+ .xmf), <dir>/vtk/<prefix>_<step>.pvtp (+ one .vtp per
+/// rank), <dir>/<prefix>.pvd. HDF5 layout: /points/{position,id,<scalars>,<vectors>} with the
+/// owned points in rank order; /lines/{position (2 rows per line), connectivity, id (2 per line),
+/// <line scalars>}.
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace biota::io {
+
+/// \brief This rank's particles for one output step. Points may include ghost copies when a line
+/// needs both ends; `owned` says how many leading points are owned (only those go to HDF5).
+struct ParticleData {
+  std::vector<double> positions;   ///< 3 per point, SI [m]
+  std::vector<std::uint64_t> ids;  ///< global id per point
+  std::size_t owned = 0;           ///< points [0, owned) are owned by this rank
+  std::vector<std::pair<std::string, std::vector<double>>> scalars;  ///< 1 value per point
+  std::vector<std::pair<std::string, std::vector<double>>> vectors;  ///< 3 values per point
+  std::vector<std::array<std::uint32_t, 2>> lines;  ///< segments between local point indices
+  std::vector<std::pair<std::string, std::vector<double>>> line_scalars;  ///< 1 per line
+};
+
+/// \brief Writes one particle output step. Collective over `comm`.
+class ParticleOutput {
+ public:
+  ParticleOutput(MPI_Comm comm, std::string dir, std::string prefix, long long step, double time,
+                 std::string effective_config);
+  /// \brief Write VTK (.vtp/.pvtp/.pvd) and HDF5 <dir>/<prefix>_<step>.h5 (+ .xmf).
+  void write(const ParticleData& data);
+
+ private:
+  MPI_Comm comm_;
+  std::string dir_, prefix_;
+  long long step_;
+  double time_;
+  std::string config_;
+};
+
+}  // namespace biota::io

@@ -1,0 +1,370 @@
+#include "models/plants/seaweed_mechanics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+#include "core/quat.hpp"
+#include "particles/cell_list.hpp"
+
+namespace biota::models::plants {
+
+using particles::kNoId;
+using particles::ParticleSet;
+
+void MechanicsParams::declare_config(core::ConfigSchema& s) {
+  s.add_real("seaweed.radius", 0.005, 0.0, std::nullopt, "m", "sphere radius (growth points)",
+             true);
+  s.add_real("seaweed.spacing", 0.01, 0.0, std::nullopt, "m", "max sphere spacing along stems",
+             true);
+  s.add_real("seaweed.plant_density", 1200, 0.0, std::nullopt, "kg/m^3", "plant density", true);
+  s.add_real("seaweed.water_density", 998, 0.0, std::nullopt, "kg/m^3", "water density (eq. 9, 10)",
+             true);
+  s.add_real("seaweed.gravity", 9.8, 0.0, std::nullopt, "m/s^2", "gravitational acceleration");
+  s.add_real("seaweed.drag_cd", 1.0, 0.0, std::nullopt, "-", "drag coefficient C_D (eq. 10)");
+  s.add_real("seaweed.joint.stiffness", 50, 0.0, std::nullopt, "N/m",
+             "stretch spring at the joint anchor", true);
+  s.add_real("seaweed.joint.damping", 0.01, 0.0, std::nullopt, "N s/m", "stretch damper");
+  s.add_real("seaweed.joint.bend_stiffness", 1e-4, 0.0, std::nullopt, "N m/rad",
+             "3-DOF rotational spring");
+  s.add_real("seaweed.joint.bend_damping", 2e-7, 0.0, std::nullopt, "N m s/rad",
+             "rotational damper");
+  s.add_real("seaweed.joint.force_limit", 1000, 0.0, std::nullopt, "N", "F_c of eq. 8", true);
+  s.add_real("seaweed.joint.torque_limit", 1000, 0.0, std::nullopt, "N m", "T_c of eq. 8", true);
+  s.add_real("seaweed.contact.stiffness", 50, 0.0, std::nullopt, "N/m", "normal contact spring");
+  s.add_real("seaweed.contact.damping", 0.01, 0.0, std::nullopt, "N s/m", "normal contact damper");
+  s.add_real("seaweed.contact.friction", 0.5, 0.0, std::nullopt, "-",
+             "Coulomb friction coefficient");
+  s.add_real("seaweed.contact.tangential_damping", 0.01, 0.0, std::nullopt, "N s/m",
+             "viscous tangential friction below the Coulomb cap");
+  s.add_real("seaweed.cluster_margin", 0.001, 0.0, std::nullopt, "m", "gap counted as contact");
+  s.add_real("seaweed.skin", 0.01, 0.0, std::nullopt, "m", "neighbour-list skin");
+  s.add_int("seaweed.substeps", 20, 1, 10000, "mechanics sub-steps per physics step");
+}
+
+MechanicsParams MechanicsParams::from_config(const core::Config& c) {
+  MechanicsParams p;
+  p.radius = c.get_real("seaweed.radius");
+  p.spacing = c.get_real("seaweed.spacing");
+  p.plant_density = c.get_real("seaweed.plant_density");
+  p.water_density = c.get_real("seaweed.water_density");
+  p.gravity = c.get_real("seaweed.gravity");
+  p.drag_cd = c.get_real("seaweed.drag_cd");
+  p.joint_k = c.get_real("seaweed.joint.stiffness");
+  p.joint_c = c.get_real("seaweed.joint.damping");
+  p.bend_k = c.get_real("seaweed.joint.bend_stiffness");
+  p.bend_c = c.get_real("seaweed.joint.bend_damping");
+  p.force_limit = c.get_real("seaweed.joint.force_limit");
+  p.torque_limit = c.get_real("seaweed.joint.torque_limit");
+  p.contact_k = c.get_real("seaweed.contact.stiffness");
+  p.contact_c = c.get_real("seaweed.contact.damping");
+  p.friction = c.get_real("seaweed.contact.friction");
+  p.friction_c = c.get_real("seaweed.contact.tangential_damping");
+  p.cluster_margin = c.get_real("seaweed.cluster_margin");
+  p.skin = c.get_real("seaweed.skin");
+  p.substeps = static_cast<int>(c.get_int("seaweed.substeps"));
+  return p;
+}
+
+Real MechanicsParams::mass() const {
+  return plant_density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+}
+Real MechanicsParams::inertia() const {
+  return 0.4 * mass() * radius * radius;
+}
+Real MechanicsParams::omega_max() const {
+  // A sphere in a chain has two joints and at most ~12 contacts; each joint spring also acts on
+  // the rotation through the anchor lever r (k r^2 / I = 2.5 k / m).
+  const Real m = mass();
+  const Real lin = (2 * joint_k * 2 + 12 * contact_k) / m;
+  const Real rot = 2 * joint_k * 2.5 / m + 2 * bend_k / inertia();
+  return std::sqrt(lin + rot);
+}
+
+particles::ParticleLayout seaweed_layout() {
+  particles::ParticleLayout l;
+  l.add_real("v", 3, true, true);
+  l.add_real("q", 4, true, true);
+  l.add_real("omega", 3, true, true);
+  l.add_real("force", 3, false, false);
+  l.add_real("torque", 3, false, false);
+  l.add_real("u_fluid", 3, true, false);
+  l.add_real("drag_impulse", 3, true, false);
+  l.add_real("anchor_child", 3, true, false);
+  l.add_real("anchor_parent", 3, true, false);
+  l.add_real("q_rest", 4, true, false);
+  l.add_real("joint_force", 1, true, false);
+  l.add_real("joint_torque", 1, true, false);
+  l.add_real("radius", 1, true, true);
+  l.add_u64("plant", 1, true, true);
+  l.add_u64("parent", 1, true, true);
+  return l;
+}
+
+SeaweedBodies::SeaweedBodies(particles::ParticleComm& comm, MechanicsParams params)
+    : comm_(comm), p_(params), set_(seaweed_layout()) {
+  const auto& L = set_.layout();
+  a_vel = L.find_real("v"), a_quat = L.find_real("q"), a_omega = L.find_real("omega");
+  a_force = L.find_real("force"), a_torque = L.find_real("torque"), a_uf = L.find_real("u_fluid");
+  a_imp = L.find_real("drag_impulse"), a_anchor_c = L.find_real("anchor_child");
+  a_anchor_p = L.find_real("anchor_parent"), a_qrest = L.find_real("q_rest");
+  a_jforce = L.find_real("joint_force"), a_jtorque = L.find_real("joint_torque");
+  a_radius = L.find_real("radius");
+  u_plant = L.find_u64("plant"), u_parent = L.find_u64("parent");
+}
+
+namespace {
+core::Quat get_q(const ParticleSet& s, int a, std::size_t i) {
+  return {s.real(a, 0)[i], s.real(a, 1)[i], s.real(a, 2)[i], s.real(a, 3)[i]};
+}
+void set_q(ParticleSet& s, int a, std::size_t i, const core::Quat& q) {
+  s.real(a, 0)[i] = q.w, s.real(a, 1)[i] = q.x, s.real(a, 2)[i] = q.y, s.real(a, 3)[i] = q.z;
+}
+}  // namespace
+
+void SeaweedBodies::build(const Population& pop, int n_plants) {
+  n_plants_ = n_plants;
+  const int me = comm_.decomposition().rank();
+  std::vector<GlobalId> bud_sphere(pop.buds.size(), kNoId);
+  GlobalId next = 0;
+  auto add = [&](GlobalId id, const Vec3& x, int plant, GlobalId parent, const Vec3& parent_x) {
+    if (comm_.owner_of(x) != me) return;
+    const std::size_t i = set_.add_owned(id, x);
+    set_q(set_, a_quat, i, {});
+    set_q(set_, a_qrest, i, {});
+    set_.real(a_radius)[i] = p_.radius;
+    set_.u64(u_plant)[i] = static_cast<std::uint64_t>(plant);
+    set_.u64(u_parent)[i] = parent;
+    if (parent != kNoId) {
+      // Joint anchor at the midpoint; all spheres start with the identity orientation.
+      set_.set_vec3(a_anchor_c, i, (parent_x - x) * 0.5);
+      set_.set_vec3(a_anchor_p, i, (x - parent_x) * 0.5);
+    }
+  };
+  for (const Bud& b : pop.buds) {
+    if (b.parent == ~GlobalId{0}) {
+      bud_sphere[b.id] = next;
+      add(next++, b.pos, b.plant, kNoId, {});
+      continue;
+    }
+    const Vec3 a = pop.buds[b.parent].pos, d = b.pos - a;
+    const int segments =
+        std::max(1, static_cast<int>(std::ceil(core::norm(d) / p_.spacing - 1e-9)));
+    GlobalId prev = bud_sphere[b.parent];
+    Vec3 prev_x = a;
+    for (int k = 1; k <= segments; ++k) {
+      const Vec3 x = a + d * (static_cast<Real>(k) / segments);
+      add(next, x, b.plant, prev, prev_x);
+      prev = next++;
+      prev_x = x;
+    }
+    bud_sphere[b.id] = prev;
+  }
+}
+
+long long SeaweedBodies::global_count() const {
+  long long n = static_cast<long long>(set_.n_owned());
+  MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_LONG_LONG, MPI_SUM, comm_.decomposition().comm());
+  return n;
+}
+
+void SeaweedBodies::begin_step() {
+  comm_.migrate(set_);
+  const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
+  const Real bond_range = 2 * p_.spacing + p_.skin;
+  comm_.build_ghosts(set_, std::max(contact_range, bond_range));
+  slots_.clear();
+  slots_.reserve(set_.n_total());
+  for (std::size_t i = 0; i < set_.n_total(); ++i) slots_.emplace(set_.id(i), i);
+  // Verlet pair list: pairs within the contact range, filtered so each pair is computed on
+  // exactly one rank (see file comment).
+  pairs_.clear();
+  const std::size_t no = set_.n_owned();
+  particles::CellList cl(set_.real(ParticleSet::kPos, 0), set_.real(ParticleSet::kPos, 1),
+                         set_.real(ParticleSet::kPos, 2), set_.n_total(), contact_range);
+  cl.for_each_pair([&](std::size_t i, std::size_t j, Real) {
+    const bool oi = i < no, oj = j < no;
+    if (!oi && !oj) return;
+    if (oi != oj) {
+      const std::size_t own = oi ? i : j, other = oi ? j : i;
+      if (!(set_.id(own) < set_.id(other))) return;
+    }
+    // Joined neighbours and siblings on one parent do not collide.
+    const GlobalId pi = set_.u64(u_parent)[i], pj = set_.u64(u_parent)[j];
+    if (pi == set_.id(j) || pj == set_.id(i) || (pi == pj && pi != kNoId)) return;
+    pairs_.emplace_back(set_.id(i) < set_.id(j) ? i : j, set_.id(i) < set_.id(j) ? j : i);
+  });
+}
+
+void SeaweedBodies::sample_fluid(const VelocityFn& u) {
+  for (std::size_t i = 0; i < set_.n_owned(); ++i) set_.set_vec3(a_uf, i, u(set_.pos(i)));
+}
+
+std::size_t SeaweedBodies::find_near(GlobalId id, const Vec3& near) const {
+  auto [b, e] = slots_.equal_range(id);
+  std::size_t best = SIZE_MAX;
+  Real bd = 1e300;
+  for (auto it = b; it != e; ++it) {
+    const Vec3 d = set_.pos(it->second) - near;
+    const Real r2 = core::dot(d, d);
+    if (r2 < bd) bd = r2, best = it->second;
+  }
+  return best;
+}
+
+void SeaweedBodies::compute_forces(Real dt_sub) {
+  set_.zero_real(a_force);
+  set_.zero_real(a_torque);
+  const std::size_t no = set_.n_owned();
+  const Real m = p_.mass(), V = 4.0 / 3.0 * std::numbers::pi * p_.radius * p_.radius * p_.radius;
+  const Real area = std::numbers::pi * p_.radius * p_.radius;
+  const Vec3 weight{0, 0,
+                    (p_.water_density - p_.plant_density) * V * p_.gravity};  // eq. 9 + gravity
+  (void)m;
+  // Body forces and drag (eq. 10, relative velocity).
+  for (std::size_t i = 0; i < no; ++i) {
+    const Vec3 rel = set_.vec3(a_uf, i) - set_.vec3(a_vel, i);
+    const Vec3 drag = rel * (0.5 * p_.drag_cd * p_.water_density * area * core::norm(rel));
+    set_.add_vec3(a_force, i, weight + drag);
+    set_.add_vec3(a_imp, i, drag * dt_sub);
+    // Tank walls: the same contact spring as sphere-sphere contacts.
+    const Vec3 x = set_.pos(i), v = set_.vec3(a_vel, i);
+    for (int d = 0; d < 3; ++d) {
+      if (comm_.decomposition().periodic(d)) continue;
+      const Real lo = comm_.domain_lo()[d] + p_.radius - x[d];
+      const Real hi = x[d] - (comm_.domain_hi()[d] - p_.radius);
+      Vec3 f{};
+      if (lo > 0) f[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * v[d]);
+      if (hi > 0) f[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * v[d]);
+      set_.add_vec3(a_force, i, f);
+    }
+  }
+  // Joints: owned children.
+  for (std::size_t i = 0; i < no; ++i) {
+    const GlobalId pid = set_.u64(u_parent)[i];
+    if (pid == kNoId) continue;
+    const std::size_t j = find_near(pid, set_.pos(i));
+    if (j == SIZE_MAX) continue;  // cannot happen while the cutoff covers the bond
+    const core::Quat qc = get_q(set_, a_quat, i), qp = get_q(set_, a_quat, j);
+    const Vec3 rc = qc.rotate(set_.vec3(a_anchor_c, i)), rp = qp.rotate(set_.vec3(a_anchor_p, i));
+    const Vec3 wc = set_.vec3(a_omega, i), wp = set_.vec3(a_omega, j);
+    const Vec3 vc = set_.vec3(a_vel, i) + core::cross(wc, rc);
+    const Vec3 vp = set_.vec3(a_vel, j) + core::cross(wp, rp);
+    const Vec3 gap = (set_.pos(j) + rp) - (set_.pos(i) + rc);
+    const Vec3 F = gap * p_.joint_k + (vp - vc) * p_.joint_c;  // on the child
+    // 3-DOF rotational spring-damper on the relative rotation q_p^* q_c against its rest value.
+    const core::Quat rel = qp.conj() * qc * get_q(set_, a_qrest, i).conj();
+    const Vec3 theta = qp.rotate(rel.rotation_vector());
+    const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
+    set_.add_vec3(a_force, i, F);
+    set_.add_vec3(a_torque, i, core::cross(rc, F) + T);
+    set_.add_vec3(a_force, j, -F);
+    set_.add_vec3(a_torque, j, core::cross(rp, -F) - T);
+    const Real fm = core::norm(F), tm = core::norm(T);
+    set_.real(a_jforce)[i] = fm;
+    set_.real(a_jtorque)[i] = tm;
+    if (fm > p_.force_limit || tm > p_.torque_limit) {  // eq. 8
+      set_.u64(u_parent)[i] = kNoId;
+      ++broken_local_;
+    }
+  }
+  // Contacts.
+  for (auto [i, j] : pairs_) {
+    const Vec3 d = set_.pos(i) - set_.pos(j);
+    const Real dist = core::norm(d), ri = set_.real(a_radius)[i], rj = set_.real(a_radius)[j];
+    const Real overlap = ri + rj - dist;
+    if (overlap <= 0 || dist <= 0) continue;
+    const Vec3 n = d / dist;
+    const Vec3 wi = set_.vec3(a_omega, i), wj = set_.vec3(a_omega, j);
+    const Vec3 vrel = (set_.vec3(a_vel, i) + core::cross(wi, n * (-ri))) -
+                      (set_.vec3(a_vel, j) + core::cross(wj, n * rj));
+    const Real vn = core::dot(vrel, n);
+    const Real fn = std::max(0.0, p_.contact_k * overlap - p_.contact_c * vn);
+    const Vec3 vt = vrel - n * vn;
+    const Real vtn = core::norm(vt);
+    Vec3 ft{};
+    if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
+    const Vec3 F = n * fn + ft;
+    set_.add_vec3(a_force, i, F);
+    set_.add_vec3(a_torque, i, core::cross(n * (-ri), ft));
+    set_.add_vec3(a_force, j, -F);
+    set_.add_vec3(a_torque, j, core::cross(n * rj, -ft));
+  }
+  comm_.reverse_sum(set_, {a_force, a_torque});
+}
+
+void SeaweedBodies::advance(Real dt) {
+  const int ns = p_.substeps;
+  const Real h = dt / ns, m = p_.mass(), I = p_.inertia();
+  set_.zero_real(a_imp);
+  for (int s = 0; s < ns; ++s) {
+    if (s > 0) comm_.update_ghosts(set_);
+    compute_forces(h);
+    // Symplectic Euler: velocities first, then positions with the new velocities.
+    for (std::size_t i = 0; i < set_.n_owned(); ++i) {
+      const Vec3 v = set_.vec3(a_vel, i) + set_.vec3(a_force, i) * (h / m);
+      const Vec3 w = set_.vec3(a_omega, i) + set_.vec3(a_torque, i) * (h / I);
+      set_.set_vec3(a_vel, i, v);
+      set_.set_vec3(a_omega, i, w);
+      set_.set_pos(i, set_.pos(i) + v * h);
+      set_q(set_, a_quat, i, get_q(set_, a_quat, i).integrated(w, h));
+    }
+  }
+}
+
+ClusterMetrics SeaweedBodies::clusters() {
+  MPI_Comm comm = comm_.decomposition().comm();
+  // Plant pairs in contact, gathered on every rank; union-find in a fixed order, so every rank
+  // and every rank count gets the same labels.
+  std::vector<std::uint64_t> local;
+  long long contacts = 0;
+  for (auto [i, j] : pairs_) {
+    const auto a = set_.u64(u_plant)[i], b = set_.u64(u_plant)[j];
+    if (a == b) continue;
+    const Real gap =
+        core::norm(set_.pos(i) - set_.pos(j)) - set_.real(a_radius)[i] - set_.real(a_radius)[j];
+    if (gap > p_.cluster_margin) continue;
+    ++contacts;
+    local.push_back(std::min(a, b) * static_cast<std::uint64_t>(n_plants_) + std::max(a, b));
+  }
+  std::sort(local.begin(), local.end());
+  local.erase(std::unique(local.begin(), local.end()), local.end());
+  int P = 0;
+  MPI_Comm_size(comm, &P);
+  int n = static_cast<int>(local.size());
+  std::vector<int> counts(P), disp(P);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < P; ++r) disp[r] = total, total += counts[r];
+  std::vector<std::uint64_t> all(total);
+  MPI_Allgatherv(local.data(), n, MPI_UINT64_T, all.data(), counts.data(), disp.data(),
+                 MPI_UINT64_T, comm);
+  std::sort(all.begin(), all.end());
+  std::vector<int> parent(n_plants_);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (auto key : all) {
+    const int a = find(static_cast<int>(key / n_plants_)),
+              b = find(static_cast<int>(key % n_plants_));
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  std::vector<int> size(n_plants_, 0);
+  for (int k = 0; k < n_plants_; ++k) ++size[find(k)];
+  ClusterMetrics cm;
+  cm.plants = n_plants_;
+  for (int k = 0; k < n_plants_; ++k)
+    if (size[k] > 0) ++cm.clusters, cm.largest = std::max(cm.largest, size[k]);
+  cm.largest_share = n_plants_ > 0 ? static_cast<double>(cm.largest) / n_plants_ : 0;
+  long long joints = 0;
+  for (std::size_t i = 0; i < set_.n_owned(); ++i) joints += set_.u64(u_parent)[i] != kNoId;
+  long long v[3] = {contacts, broken_local_, joints};
+  MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_LONG_LONG, MPI_SUM, comm);
+  cm.contacts = v[0], cm.broken_joints = v[1], cm.joints = v[2];
+  return cm;
+}
+
+}  // namespace biota::models::plants

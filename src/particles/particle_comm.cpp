@@ -1,0 +1,240 @@
+#include "particles/particle_comm.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace biota::particles {
+
+namespace {
+constexpr int kTagMigrate = 7100, kTagGhost = 7200, kTagUpdate = 7300, kTagReverse = 7400;
+
+// Exchange a vector of doubles with a pair of ranks: send `out` to `dest`, receive from `src`.
+std::vector<double> sendrecv(const std::vector<double>& out, int dest, int src, int tag,
+                             MPI_Comm comm) {
+  long long nout = static_cast<long long>(out.size()), nin = 0;
+  MPI_Sendrecv(&nout, 1, MPI_LONG_LONG, dest, tag, &nin, 1, MPI_LONG_LONG, src, tag, comm,
+               MPI_STATUS_IGNORE);
+  std::vector<double> in(static_cast<std::size_t>(nin));
+  MPI_Sendrecv(out.data(), static_cast<int>(nout), MPI_DOUBLE, dest, tag + 1, in.data(),
+               static_cast<int>(nin), MPI_DOUBLE, src, tag + 1, comm, MPI_STATUS_IGNORE);
+  return in;
+}
+}  // namespace
+
+ParticleComm::ParticleComm(const grid::Decomposition& decomp, Real dx, Vec3 origin)
+    : decomp_(decomp), dx_(dx), origin_(origin) {
+  const auto& b = decomp.local_box();
+  for (int d = 0; d < 3; ++d) {
+    lo_[d] = origin[d] + b.lo[d] * dx;
+    hi_[d] = origin[d] + b.hi[d] * dx;
+    glo_[d] = origin[d];
+    ghi_[d] = origin[d] + decomp.global_cells()[d] * dx;
+  }
+}
+
+int ParticleComm::axis_coord(int d, Real v) const {
+  const int n = decomp_.global_cells()[d], parts = decomp_.dims()[d];
+  int i = static_cast<int>(std::floor((v - origin_[d]) / dx_));
+  i = i < 0 ? 0 : (i >= n ? n - 1 : i);
+  const int base = n / parts, rem = n % parts, big = rem * (base + 1);
+  return i < big ? i / (base + 1) : rem + (i - big) / base;
+}
+
+Real ParticleComm::wrap(int d, Real v) const {
+  if (!decomp_.periodic(d)) return v;
+  const Real L = ghi_[d] - glo_[d];
+  Real w = v - L * std::floor((v - glo_[d]) / L);
+  if (w >= ghi_[d]) w = glo_[d];  // round-off at the top edge
+  return w;
+}
+
+int ParticleComm::owner_of(const Vec3& p) const {
+  int c[3];
+  for (int d = 0; d < 3; ++d) c[d] = axis_coord(d, wrap(d, p[d]));
+  int r = 0;
+  MPI_Cart_rank(decomp_.comm(), c, &r);
+  return r;
+}
+
+void ParticleComm::migrate(ParticleSet& set) {
+  set.clear_ghosts();
+  have_plan_ = false;
+  MPI_Comm comm = decomp_.comm();
+  const int w = set.pack_width(false);
+  Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
+                set.real(ParticleSet::kPos, 2)};
+  for (int d = 0; d < 3; ++d)
+    for (std::size_t i = 0; i < set.n_owned(); ++i) x[d][i] = wrap(d, x[d][i]);
+  for (int round = 0;; ++round) {
+    if (round > 64) throw std::runtime_error("ParticleComm::migrate did not converge");
+    for (int d = 0; d < 3; ++d) {
+      const int dims = decomp_.dims()[d], me = decomp_.coords()[d];
+      if (dims == 1) continue;
+      std::array<std::vector<double>, 2> out;
+      std::vector<char> gone(set.n_owned(), 0);
+      for (std::size_t i = 0; i < set.n_owned(); ++i) {
+        int delta = axis_coord(d, set.real(ParticleSet::kPos, d)[i]) - me;
+        if (delta == 0) continue;
+        if (decomp_.periodic(d)) {  // shortest way round
+          if (delta > dims / 2) delta -= dims;
+          if (delta < -dims / 2) delta += dims;
+        }
+        const int side = delta < 0 ? 0 : 1;
+        if (decomp_.neighbor(d, side) == MPI_PROC_NULL) continue;
+        set.pack(i, false, out[side]);
+        gone[i] = 1;
+      }
+      set.remove_owned(gone);
+      for (int side = 0; side < 2; ++side) {
+        auto in = sendrecv(out[side], decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
+                           kTagMigrate + 2 * side, comm);
+        const std::size_t n = in.size() / w, first = set.n_owned();
+        set.resize(first + n, first + n);
+        for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, false, in.data() + k * w);
+      }
+    }
+    // Done when every particle is home (at most a few rounds when a move spans several ranks).
+    long long away = 0;
+    const int me = decomp_.rank();
+    for (std::size_t i = 0; i < set.n_owned(); ++i) away += owner_of(set.pos(i)) != me;
+    long long total = 0;
+    MPI_Allreduce(&away, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
+    if (total == 0) break;
+  }
+}
+
+void ParticleComm::redistribute(ParticleSet& set) {
+  set.clear_ghosts();
+  have_plan_ = false;
+  MPI_Comm comm = decomp_.comm();
+  const int P = decomp_.size(), w = set.pack_width(false);
+  std::vector<std::vector<double>> out(P);
+  std::vector<char> gone(set.n_owned(), 0);
+  Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
+                set.real(ParticleSet::kPos, 2)};
+  for (std::size_t i = 0; i < set.n_owned(); ++i) {
+    for (int d = 0; d < 3; ++d) x[d][i] = wrap(d, x[d][i]);
+    const int r = owner_of(set.pos(i));
+    if (r == decomp_.rank()) continue;
+    set.pack(i, false, out[r]);
+    gone[i] = 1;
+  }
+  set.remove_owned(gone);
+  std::vector<int> scount(P), rcount(P), sdisp(P), rdisp(P);
+  for (int r = 0; r < P; ++r) scount[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+  std::vector<double> sbuf, rbuf;
+  for (int r = 0; r < P; ++r) {
+    sdisp[r] = static_cast<int>(sbuf.size());
+    sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
+  }
+  int rtotal = 0;
+  for (int r = 0; r < P; ++r) {
+    rdisp[r] = rtotal;
+    rtotal += rcount[r];
+  }
+  rbuf.resize(rtotal);
+  MPI_Alltoallv(sbuf.data(), scount.data(), sdisp.data(), MPI_DOUBLE, rbuf.data(), rcount.data(),
+                rdisp.data(), MPI_DOUBLE, comm);
+  const std::size_t n = rbuf.size() / w, first = set.n_owned();
+  set.resize(first + n, first + n);
+  for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, false, rbuf.data() + k * w);
+}
+
+void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
+  set.clear_ghosts();
+  MPI_Comm comm = decomp_.comm();
+  const int w = set.pack_width(true);
+  for (int d = 0; d < 3; ++d) {
+    const Real width = hi_[d] - lo_[d];
+    if (cutoff > width && decomp_.neighbor(d, 0) != MPI_PROC_NULL)
+      throw std::runtime_error("particle ghost cutoff " + std::to_string(cutoff) +
+                               " m exceeds the rank's width " + std::to_string(width) +
+                               " m on axis " + std::to_string(d) + "; use fewer ranks");
+  }
+  for (int d = 0; d < 3; ++d) {
+    const int dims = decomp_.dims()[d], me = decomp_.coords()[d];
+    const Real L = ghi_[d] - glo_[d];
+    const std::size_t n_candidates = set.n_total();  // owned + ghosts of earlier passes
+    for (int side = 0; side < 2; ++side) {
+      GhostPass& p = plan_[d][side];
+      p.send.clear();
+      p.shift = 0;
+      if (side == 0 && me == 0) p.shift = L;
+      if (side == 1 && me == dims - 1) p.shift = -L;
+      std::vector<double> out;
+      if (decomp_.neighbor(d, side) != MPI_PROC_NULL) {
+        const Real* x = set.real(ParticleSet::kPos, d);
+        for (std::size_t i = 0; i < n_candidates; ++i) {
+          const bool near = side == 0 ? x[i] < lo_[d] + cutoff : x[i] >= hi_[d] - cutoff;
+          if (!near) continue;
+          p.send.push_back(i);
+          const std::size_t at = out.size();
+          set.pack(i, true, out);
+          out[at + d] += p.shift;  // position is the first packed column
+        }
+      }
+      auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
+                         kTagGhost + 2 * side, comm);
+      const std::size_t n = in.size() / w, first = set.n_total();
+      set.resize(set.n_owned(), first + n);
+      for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, true, in.data() + k * w);
+      p.recv_begin = first;
+      p.recv_count = n;
+    }
+  }
+  have_plan_ = true;
+}
+
+void ParticleComm::update_ghosts(ParticleSet& set) {
+  if (!have_plan_) throw std::logic_error("update_ghosts without build_ghosts");
+  MPI_Comm comm = decomp_.comm();
+  const int w = set.pack_width(true);
+  for (int d = 0; d < 3; ++d)
+    for (int side = 0; side < 2; ++side) {
+      GhostPass& p = plan_[d][side];
+      std::vector<double> out;
+      out.reserve(p.send.size() * w);
+      for (std::size_t i : p.send) {
+        const std::size_t at = out.size();
+        set.pack(i, true, out);
+        out[at + d] += p.shift;
+      }
+      auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
+                         kTagUpdate + 2 * side, comm);
+      if (in.size() != p.recv_count * w) throw std::logic_error("ghost plan out of date");
+      for (std::size_t k = 0; k < p.recv_count; ++k)
+        set.unpack(p.recv_begin + k, true, in.data() + k * w);
+    }
+}
+
+void ParticleComm::reverse_sum(ParticleSet& set, const std::vector<int>& attrs) {
+  if (!have_plan_) throw std::logic_error("reverse_sum without build_ghosts");
+  MPI_Comm comm = decomp_.comm();
+  std::vector<Real*> cols;
+  for (int a : attrs)
+    for (int c = 0; c < set.layout().reals()[a].ncomp; ++c) cols.push_back(set.real(a, c));
+  const std::size_t w = cols.size();
+  // Undo the passes in reverse order: a ghost forwarded in a later pass first receives what its
+  // own copies accumulated, then sends the total one hop back.
+  for (int d = 2; d >= 0; --d)
+    for (int side = 1; side >= 0; --side) {
+      GhostPass& p = plan_[d][side];
+      std::vector<double> out;
+      out.reserve(p.recv_count * w);
+      for (std::size_t k = 0; k < p.recv_count; ++k)
+        for (Real* c : cols) {
+          out.push_back(c[p.recv_begin + k]);
+          c[p.recv_begin + k] = 0;
+        }
+      // Ghosts of pass (d, side) came from neighbor(d, 1-side); send their sums back there.
+      auto in = sendrecv(out, decomp_.neighbor(d, 1 - side), decomp_.neighbor(d, side),
+                         kTagReverse + 2 * side, comm);
+      if (in.size() != p.send.size() * w) throw std::logic_error("reverse plan mismatch");
+      for (std::size_t k = 0; k < p.send.size(); ++k)
+        for (std::size_t c = 0; c < w; ++c) cols[c][p.send[k]] += in[k * w + c];
+    }
+}
+
+}  // namespace biota::particles

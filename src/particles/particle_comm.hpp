@@ -1,0 +1,69 @@
+#pragma once
+/// \file particle_comm.hpp
+/// \brief Particle communication over a grid::Decomposition: migration to face neighbours, global
+/// redistribution, ghost build/refresh within a cutoff, and the reverse scatter (sum) of values
+/// accumulated on ghosts back to their owners.
+///
+/// Positions are physical (m); the decomposition's cells have size `dx` and the grid starts at
+/// `origin`. A rank owns the particles whose position lies in its box; on a non-periodic axis
+/// particles outside the domain stay with the boundary rank. Exchanges run axis by axis (x, y, z)
+/// with face neighbours only (LAMMPS comm_brick), so diagonal moves and corner ghosts need no
+/// extra messages: ghosts received in pass x are forwarded in passes y and z.
+#include <mpi.h>
+
+#include <array>
+#include <vector>
+
+#include "grid/decomposition.hpp"
+#include "particles/particle_set.hpp"
+
+namespace biota::particles {
+
+/// \brief Communication plan and routines for particle sets on one decomposition.
+class ParticleComm {
+ public:
+  ParticleComm(const grid::Decomposition& decomp, Real dx, Vec3 origin = {});
+
+  /// \brief Send owned particles that left this rank's box to their owner through face
+  /// neighbours (repeated passes until every particle is home; diagonal moves take one round).
+  /// Wraps positions on periodic axes. Drops ghosts. Collective.
+  void migrate(ParticleSet& set);
+  /// \brief Send every owned particle straight to its owner (all-to-all; after setup/restart).
+  void redistribute(ParticleSet& set);
+  /// \brief Build ghosts: every image of a particle within `cutoff` of this rank's box (periodic
+  /// images shifted). Must follow migrate(). Records the plan for update_ghosts/reverse_sum.
+  void build_ghosts(ParticleSet& set, Real cutoff);
+  /// \brief Refresh the ghost attributes (those flagged `ghost`) from the owners with the plan of
+  /// the last build_ghosts (positions shifted for periodic images). Collective.
+  void update_ghosts(ParticleSet& set);
+  /// \brief Add the values of real attributes `attrs` held on ghosts to the owners' values and
+  /// zero them on the ghosts (forces computed on ghosts). Collective.
+  void reverse_sum(ParticleSet& set, const std::vector<int>& attrs);
+
+  /// \brief Physical box of this rank [lo, hi) and of the whole domain.
+  const Vec3& lo() const { return lo_; }
+  const Vec3& hi() const { return hi_; }
+  const Vec3& domain_lo() const { return glo_; }
+  const Vec3& domain_hi() const { return ghi_; }
+  const grid::Decomposition& decomposition() const { return decomp_; }
+  /// \brief Rank owning the physical point p (clamped on walls, wrapped on periodic axes).
+  int owner_of(const Vec3& p) const;
+
+ private:
+  // Rank coordinate along axis d of the physical coordinate v.
+  int axis_coord(int d, Real v) const;
+  Real wrap(int d, Real v) const;
+
+  struct GhostPass {
+    std::vector<std::size_t> send;  // local indices sent
+    Real shift = 0;                 // added to coordinate d of what is sent
+    std::size_t recv_begin = 0, recv_count = 0;
+  };
+  const grid::Decomposition& decomp_;
+  Real dx_;
+  Vec3 origin_, lo_, hi_, glo_, ghi_;
+  std::array<std::array<GhostPass, 2>, 3> plan_{};  // [axis][side sent to]
+  bool have_plan_ = false;
+};
+
+}  // namespace biota::particles

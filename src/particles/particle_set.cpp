@@ -1,0 +1,119 @@
+#include "particles/particle_set.hpp"
+
+#include <bit>
+#include <stdexcept>
+
+namespace biota::particles {
+
+ParticleLayout::ParticleLayout() {
+  reals_.push_back({"x", 3, true, true});
+  u64s_.push_back({"id", 1, true, true});
+}
+
+int ParticleLayout::add_real(const std::string& name, int ncomp, bool migrate, bool ghost) {
+  if (find_real(name) >= 0) throw std::logic_error("particle attribute declared twice: " + name);
+  reals_.push_back({name, ncomp, migrate, ghost});
+  return static_cast<int>(reals_.size()) - 1;
+}
+
+int ParticleLayout::add_u64(const std::string& name, int ncomp, bool migrate, bool ghost) {
+  if (find_u64(name) >= 0) throw std::logic_error("particle attribute declared twice: " + name);
+  u64s_.push_back({name, ncomp, migrate, ghost});
+  return static_cast<int>(u64s_.size()) - 1;
+}
+
+int ParticleLayout::find_real(const std::string& name) const {
+  for (std::size_t a = 0; a < reals_.size(); ++a)
+    if (reals_[a].name == name) return static_cast<int>(a);
+  return -1;
+}
+
+int ParticleLayout::find_u64(const std::string& name) const {
+  for (std::size_t a = 0; a < u64s_.size(); ++a)
+    if (u64s_[a].name == name) return static_cast<int>(a);
+  return -1;
+}
+
+ParticleSet::ParticleSet(ParticleLayout layout) : layout_(std::move(layout)) {
+  for (const auto& a : layout_.reals()) {
+    rfirst_.push_back(rcol_.size());
+    for (int c = 0; c < a.ncomp; ++c) {
+      rcol_.emplace_back();
+      rmig_.push_back(a.migrate);
+      rghost_.push_back(a.ghost);
+    }
+  }
+  for (const auto& a : layout_.u64s()) {
+    ufirst_.push_back(ucol_.size());
+    for (int c = 0; c < a.ncomp; ++c) {
+      ucol_.emplace_back();
+      umig_.push_back(a.migrate);
+      ughost_.push_back(a.ghost);
+    }
+  }
+}
+
+void ParticleSet::resize(std::size_t n_owned, std::size_t n_total) {
+  for (auto& c : rcol_) c.resize(n_total, 0.0);
+  for (auto& c : ucol_) c.resize(n_total, 0);
+  n_owned_ = n_owned;
+  n_total_ = n_total;
+}
+
+std::size_t ParticleSet::add_owned(GlobalId id, const Vec3& p) {
+  const std::size_t i = n_owned_;
+  resize(n_owned_, n_owned_);
+  resize(i + 1, i + 1);
+  for (auto& c : rcol_) c[i] = 0.0;
+  for (auto& c : ucol_) c[i] = 0;
+  ucol_[0][i] = id;
+  set_pos(i, p);
+  return i;
+}
+
+void ParticleSet::remove_owned(const std::vector<char>& remove) {
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    if (remove[i]) continue;
+    if (w != i) {
+      for (auto& c : rcol_) c[w] = c[i];
+      for (auto& c : ucol_) c[w] = c[i];
+    }
+    ++w;
+  }
+  resize(w, w);
+}
+
+void ParticleSet::zero_real(int a) {
+  for (int c = 0; c < layout_.reals()[a].ncomp; ++c)
+    std::fill(rcol_[rfirst_[a] + c].begin(), rcol_[rfirst_[a] + c].end(), 0.0);
+}
+
+int ParticleSet::pack_width(bool ghost_only) const {
+  int w = 0;
+  for (std::size_t c = 0; c < rcol_.size(); ++c) w += ghost_only ? rghost_[c] : rmig_[c];
+  for (std::size_t c = 0; c < ucol_.size(); ++c) w += ghost_only ? ughost_[c] : umig_[c];
+  return w;
+}
+
+void ParticleSet::pack(std::size_t i, bool ghost_only, std::vector<double>& buf) const {
+  for (std::size_t c = 0; c < rcol_.size(); ++c)
+    if (ghost_only ? rghost_[c] : rmig_[c]) buf.push_back(rcol_[c][i]);
+  // 64-bit integers travel bit-exactly inside doubles (one MPI datatype for the whole message).
+  for (std::size_t c = 0; c < ucol_.size(); ++c)
+    if (ghost_only ? ughost_[c] : umig_[c]) buf.push_back(std::bit_cast<double>(ucol_[c][i]));
+}
+
+void ParticleSet::unpack(std::size_t i, bool ghost_only, const double* in) {
+  for (std::size_t c = 0; c < rcol_.size(); ++c)
+    if (ghost_only ? rghost_[c] : rmig_[c]) rcol_[c][i] = *in++;
+  for (std::size_t c = 0; c < ucol_.size(); ++c)
+    if (ghost_only ? ughost_[c] : umig_[c]) ucol_[c][i] = std::bit_cast<std::uint64_t>(*in++);
+}
+
+void ParticleSet::swap_slots(std::size_t i, std::size_t j) {
+  for (auto& c : rcol_) std::swap(c[i], c[j]);
+  for (auto& c : ucol_) std::swap(c[i], c[j]);
+}
+
+}  // namespace biota::particles

@@ -1,0 +1,128 @@
+#pragma once
+/// \file particle_set.hpp
+/// \brief Structure-of-arrays particle storage with owned and ghost ranges and 64-bit global ids.
+///
+/// A kind of particle (plant sphere, boid, moss patch) is described by a `ParticleLayout`: a list
+/// of real and 64-bit integer attributes, each saying whether it travels on migration and whether
+/// it is refreshed on ghosts (LAMMPS atom_vec / Cabana AoSoA member lists). Communication packs
+/// exactly those columns, so no kind needs hand-written pack/unpack code.
+///
+/// Storage: one column per attribute component. Indices [0, n_owned) are owned particles,
+/// [n_owned, n_owned + n_ghost) ghosts (copies of particles owned elsewhere or periodic images).
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace biota::particles {
+
+using core::GlobalId;
+using core::Real;
+using core::Vec3;
+
+/// \brief Id value meaning "no particle" (e.g. a broken or absent bond partner).
+inline constexpr GlobalId kNoId = ~GlobalId{0};
+
+/// \brief Declaration of one attribute.
+struct AttributeSpec {
+  std::string name;
+  int ncomp = 1;
+  bool migrate = true;  ///< travels with the particle when it changes owner
+  bool ghost = false;   ///< copied to ghosts on every ghost refresh
+};
+
+/// \brief The attribute list of a particle kind. Position "x" (real, 3) and "id" (u64, 1) always
+/// exist as attribute 0 of their type and always travel both on migration and on ghost refresh.
+class ParticleLayout {
+ public:
+  ParticleLayout();
+  /// \brief Declare a real attribute; returns its handle.
+  int add_real(const std::string& name, int ncomp, bool migrate, bool ghost);
+  /// \brief Declare a 64-bit integer attribute (ids of partners, plant ids, flags); returns handle.
+  int add_u64(const std::string& name, int ncomp, bool migrate, bool ghost);
+  const std::vector<AttributeSpec>& reals() const { return reals_; }
+  const std::vector<AttributeSpec>& u64s() const { return u64s_; }
+  int find_real(const std::string& name) const;
+  int find_u64(const std::string& name) const;
+
+ private:
+  std::vector<AttributeSpec> reals_, u64s_;
+};
+
+/// \brief SoA particle set; see file comment.
+class ParticleSet {
+ public:
+  static constexpr int kPos = 0;  ///< handle of the position attribute
+  static constexpr int kId = 0;   ///< handle of the id attribute
+
+  explicit ParticleSet(ParticleLayout layout);
+
+  const ParticleLayout& layout() const { return layout_; }
+  std::size_t n_owned() const { return n_owned_; }
+  std::size_t n_ghost() const { return n_total_ - n_owned_; }
+  std::size_t n_total() const { return n_total_; }
+
+  /// \brief Column of component `c` of real attribute `a` (valid for owned and ghost indices).
+  Real* real(int a, int c = 0) { return rcol_[rfirst_[a] + c].data(); }
+  const Real* real(int a, int c = 0) const { return rcol_[rfirst_[a] + c].data(); }
+  std::uint64_t* u64(int a, int c = 0) { return ucol_[ufirst_[a] + c].data(); }
+  const std::uint64_t* u64(int a, int c = 0) const { return ucol_[ufirst_[a] + c].data(); }
+  GlobalId id(std::size_t i) const { return ucol_[0][i]; }
+  Vec3 pos(std::size_t i) const { return {rcol_[0][i], rcol_[1][i], rcol_[2][i]}; }
+  void set_pos(std::size_t i, const Vec3& p) {
+    rcol_[0][i] = p.x;
+    rcol_[1][i] = p.y;
+    rcol_[2][i] = p.z;
+  }
+  Vec3 vec3(int a, std::size_t i) const {
+    const std::size_t f = rfirst_[a];
+    return {rcol_[f][i], rcol_[f + 1][i], rcol_[f + 2][i]};
+  }
+  void set_vec3(int a, std::size_t i, const Vec3& v) {
+    const std::size_t f = rfirst_[a];
+    rcol_[f][i] = v.x;
+    rcol_[f + 1][i] = v.y;
+    rcol_[f + 2][i] = v.z;
+  }
+  void add_vec3(int a, std::size_t i, const Vec3& v) {
+    const std::size_t f = rfirst_[a];
+    rcol_[f][i] += v.x;
+    rcol_[f + 1][i] += v.y;
+    rcol_[f + 2][i] += v.z;
+  }
+
+  /// \brief Append an owned particle (drops all ghosts first); other attributes are zero.
+  std::size_t add_owned(GlobalId id, const Vec3& pos);
+  /// \brief Drop every ghost.
+  void clear_ghosts() { resize(n_owned_, n_owned_); }
+  /// \brief Remove owned particles flagged in `remove` (size n_owned); drops ghosts. Order of the
+  /// remaining particles is kept.
+  void remove_owned(const std::vector<char>& remove);
+  /// \brief Zero one real attribute on owned and ghost particles.
+  void zero_real(int a);
+
+  // ---- packing (used by ParticleComm) ----
+  /// \brief Doubles per particle for a migration / ghost message.
+  int pack_width(bool ghost_only) const;
+  /// \brief Append particle i's migrating (ghost_only=false) or ghost columns to `buf`.
+  void pack(std::size_t i, bool ghost_only, std::vector<double>& buf) const;
+  /// \brief Write one packed particle into slot i (which must exist).
+  void unpack(std::size_t i, bool ghost_only, const double* in);
+  /// \brief Resize to n_owned owned and n_total - n_owned ghosts (new slots zeroed).
+  void resize(std::size_t n_owned, std::size_t n_total);
+  /// \brief Swap particle slots i and j (all columns).
+  void swap_slots(std::size_t i, std::size_t j);
+
+ private:
+  ParticleLayout layout_;
+  std::vector<std::size_t> rfirst_, ufirst_;  // first column of each attribute
+  std::vector<std::vector<Real>> rcol_;
+  std::vector<std::vector<std::uint64_t>> ucol_;
+  std::vector<char> rmig_, rghost_, umig_, ughost_;  // per column flags
+  std::size_t n_owned_ = 0, n_total_ = 0;
+};
+
+}  // namespace biota::particles

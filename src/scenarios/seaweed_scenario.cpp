@@ -1,0 +1,261 @@
+#include "scenarios/seaweed_scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+#include "io/output_step.hpp"
+#include "io/particle_output.hpp"
+#include "models/plants/ulva_growth.hpp"
+#include "scenarios/lbm_output.hpp"
+
+namespace biota::scenarios {
+
+namespace mp = models::plants;
+using core::Vec3;
+
+void SeaweedScenario::declare_config(core::ConfigSchema& s) {
+  solvers::lbm::LbmSolver::declare_config(s);
+  mp::GrowthParams::declare_config(s);
+  mp::MechanicsParams::declare_config(s);
+  s.add_real("growth.env_radius", 0.3, 0.0, std::nullopt, "m",
+             "outer radius of the concentric environment regions (centred on the tank axis)", true);
+  s.add_int("seaweed.plants", 50, 1, 10000000, "number of individuals");
+  s.add_real_list("seaweed.placement.lo", std::vector<double>{0.2, 0.2, 0.25}, 3, "m",
+                  "lower corner of the seed placement box");
+  s.add_real_list("seaweed.placement.hi", std::vector<double>{0.8, 0.8, 0.75}, 3, "m",
+                  "upper corner of the seed placement box");
+  s.add_real("seaweed.placement.min_spacing", 0.12, 0.0, std::nullopt, "m",
+             "minimum distance between seeds");
+  s.add_bool("seaweed.two_way", true, "plants act back on the water (false: the paper's one-way)");
+  s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
+  s.add_int("seaweed.metrics_interval", 6, 1, std::nullopt, "physics steps between metric rows");
+}
+
+SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
+  const auto& cfg = ctx.config;
+  auto params = solvers::lbm::LbmParams::from_config(cfg);
+  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
+  lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
+  lbm_->enable_force_field();
+  force_halo_ = std::make_unique<grid::HaloExchange>(*decomp_, lbm_->force());
+  const double dx = lbm_->units().dx();
+  dt_ = cfg.get_real("seaweed.physics_dt");
+  lbm_substeps_ = std::max(1, static_cast<int>(std::lround(dt_ / lbm_->units().dt())));
+  if (std::abs(lbm_substeps_ * lbm_->units().dt() - dt_) > 1e-9 * dt_)
+    cfg.fail("seaweed.physics_dt",
+             fmt::format("must be a multiple of lbm.dt = {}", lbm_->units().dt()));
+  two_way_ = cfg.get_bool("seaweed.two_way");
+  metrics_every_ = static_cast<int>(cfg.get_int("seaweed.metrics_interval"));
+  pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
+  coupling_ = std::make_unique<coupling::TrilinearCoupling>(*decomp_, dx);
+
+  auto gp = mp::GrowthParams::from_config(cfg);
+  const Vec3 L = pcomm_->domain_hi();
+  gp.env_centre = L * 0.5;
+  gp.env_radius = cfg.get_real("growth.env_radius");
+  n_plants_ = static_cast<int>(cfg.get_int("seaweed.plants"));
+  const auto& lo = cfg.get_real_list("seaweed.placement.lo");
+  const auto& hi = cfg.get_real_list("seaweed.placement.hi");
+  auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
+                               cfg.get_real("seaweed.placement.min_spacing"));
+  auto mpar = mp::MechanicsParams::from_config(cfg);
+  const double wdt = mpar.omega_max() * dt_ / mpar.substeps;
+  if (wdt > 1.8)
+    cfg.fail("seaweed.substeps",
+             fmt::format("omega_max dt_sub = {:.2f} > 1.8: explicit sub-steps unstable", wdt));
+  bodies_ = std::make_unique<mp::SeaweedBodies>(*pcomm_, mpar);
+  {
+    auto scope = ctx_.timers.scope("growth");
+    auto pop = mp::grow_population(gp, seeds);
+    bodies_->build(pop, n_plants_);
+  }
+  const long long n = bodies_->global_count();
+  if (decomp_->rank() == 0) {
+    std::filesystem::create_directories(ctx.output_dir);
+    csv_.open(ctx.output_dir + "/seaweed_clusters.csv");
+    csv_ << "time,clusters,largest,largest_share,contacts,broken_joints,joints\n";
+    fmt::print(
+        "seaweed: {} plants, {} spheres, growth cycles {}, {} LBM steps per physics step, "
+        "omega_max*dt_sub = {:.2f}, coupling {}\n",
+        n_plants_, n, gp.cycles, lbm_substeps_, wdt, two_way_ ? "two-way" : "one-way");
+  }
+  bodies_->begin_step();
+  record_metrics();
+}
+
+void SeaweedScenario::record_metrics() {
+  last_ = bodies_->clusters();
+  if (decomp_->rank() == 0)
+    csv_ << fmt::format("{:.6f},{},{},{:.6f},{},{},{}\n", time(), last_.clusters, last_.largest,
+                        last_.largest_share, last_.contacts, last_.broken_joints, last_.joints)
+         << std::flush;
+}
+
+void SeaweedScenario::step() {
+  auto& set = bodies_->set();
+  const auto& units = lbm_->units();
+  std::vector<coupling::Stencil> st;
+  {
+    auto scope = ctx_.timers.scope("particles");
+    if (step_ > 0) bodies_->begin_step();  // migrate, ghosts, neighbour list
+  }
+  {
+    auto scope = ctx_.timers.scope("coupling");
+    st.resize(set.n_owned());
+    const double to_si = units.velocity_to_si(1.0);
+    for (std::size_t i = 0; i < set.n_owned(); ++i) {
+      st[i] = coupling_->stencil(set.pos(i));
+      set.set_vec3(bodies_->a_uf, i, coupling_->interpolate(lbm_->velocity(), st[i]) * to_si);
+    }
+  }
+  {
+    auto scope = ctx_.timers.scope("particles");
+    bodies_->advance(dt_);
+  }
+  {
+    auto scope = ctx_.timers.scope("coupling");
+    auto& f = lbm_->force();
+    f.fill(0.0);
+    if (two_way_) {
+      // Reaction of the drag, averaged over the step: -impulse/dt [N] per sphere, spread with the
+      // interpolation weights as a lattice force density.
+      const double to_lat = units.force_to_lattice(1.0) / dt_;
+      for (std::size_t i = 0; i < set.n_owned(); ++i)
+        coupling_->spread(f, st[i], set.vec3(bodies_->a_imp, i) * (-to_lat));
+      force_halo_->reverse_sum();
+    }
+  }
+  for (int k = 0; k < lbm_substeps_; ++k) lbm_->step(k == lbm_substeps_ - 1);
+  ctx_.timers.add("lbm", lbm_->time_collide() + lbm_->time_halo() + lbm_->time_boundary() -
+                             t_lbm_[0] - t_lbm_[1] - t_lbm_[2]);
+  t_lbm_[0] = lbm_->time_collide(), t_lbm_[1] = lbm_->time_halo(),
+  t_lbm_[2] = lbm_->time_boundary();
+  ++step_;
+  if (step_ % metrics_every_ == 0) {
+    auto scope = ctx_.timers.scope("clusters");
+    record_metrics();
+  }
+}
+
+void SeaweedScenario::write_output() {
+  auto scope = ctx_.timers.scope("output");
+  lbm_->update_macroscopic();
+  io::OutputStep out(*decomp_, ctx_.output_dir, "seaweed", step_, time(), lbm_->units().dx(),
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa");
+  add_lbm_fields(out, *lbm_);
+  out.write();
+  write_particles();
+}
+
+void SeaweedScenario::write_particles() {
+  // Owned spheres as points (radius, plant, joint force/torque, velocity); each intact joint as a
+  // line from the child to its parent (a ghost parent is appended as an extra point).
+  auto& s = bodies_->set();
+  const std::size_t no = s.n_owned();
+  io::ParticleData d;
+  std::vector<std::size_t> src;
+  for (std::size_t i = 0; i < no; ++i) src.push_back(i);
+  std::unordered_map<core::GlobalId, std::size_t> local;
+  for (std::size_t i = 0; i < s.n_total(); ++i) local.emplace(s.id(i), i);
+  std::vector<double> line_force, line_torque;
+  for (std::size_t i = 0; i < no; ++i) {
+    const auto pid = s.u64(bodies_->u_parent)[i];
+    if (pid == particles::kNoId) continue;
+    auto it = local.find(pid);
+    if (it == local.end()) continue;
+    std::size_t j = it->second;
+    if (j >= no) {
+      src.push_back(j);
+      j = src.size() - 1;
+    }
+    d.lines.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+    line_force.push_back(s.real(bodies_->a_jforce)[i]);
+    line_torque.push_back(s.real(bodies_->a_jtorque)[i]);
+  }
+  d.owned = no;
+  std::vector<double> radius, plant, jf, jt, vel;
+  for (std::size_t k : src) {
+    const Vec3 p = s.pos(k), v = s.vec3(bodies_->a_vel, k);
+    d.positions.insert(d.positions.end(), {p.x, p.y, p.z});
+    d.ids.push_back(s.id(k));
+    radius.push_back(s.real(bodies_->a_radius)[k]);
+    plant.push_back(static_cast<double>(s.u64(bodies_->u_plant)[k]));
+    jf.push_back(s.real(bodies_->a_jforce)[k]);
+    jt.push_back(s.real(bodies_->a_jtorque)[k]);
+    vel.insert(vel.end(), {v.x, v.y, v.z});
+  }
+  d.scalars = {{"radius", std::move(radius)},
+               {"plant", std::move(plant)},
+               {"joint_force", std::move(jf)},
+               {"joint_torque", std::move(jt)}};
+  d.vectors = {{"velocity", std::move(vel)}};
+  d.line_scalars = {{"joint_force", std::move(line_force)},
+                    {"joint_torque", std::move(line_torque)}};
+  io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "seaweed_particles", step_, time(),
+                         ctx_.config.effective_toml());
+  out.write(d);
+}
+
+void SeaweedScenario::write_checkpoint(const std::string& path) {
+  auto scope = ctx_.timers.scope("checkpoint");
+  io::CheckpointWriter w(*decomp_, path);
+  w.write_attribute("scenario", std::string("seaweed"));
+  w.write_attribute("config", ctx_.config.effective_toml());
+  w.write_attribute("seaweed_step", static_cast<std::int64_t>(step_));
+  lbm_->write_checkpoint(w);
+  // Particles: every migrating column, one row per owned sphere (ids travel bit-exactly).
+  auto& s = bodies_->set();
+  const int width = s.pack_width(false);
+  std::vector<double> rows;
+  for (std::size_t i = 0; i < s.n_owned(); ++i) s.pack(i, false, rows);
+  w.write_rows("seaweed_particles", rows, width);
+  w.commit();
+}
+
+void SeaweedScenario::read_checkpoint(const std::string& path) {
+  io::CheckpointReader r(*decomp_, path);
+  lbm_->read_checkpoint(r);
+  step_ = r.read_attribute_int("seaweed_step");
+  int width = 0;
+  auto rows = r.read_all_rows("seaweed_particles", width);
+  auto& s = bodies_->set();
+  if (width != s.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
+  s.resize(0, 0);
+  const std::size_t n = rows.size() / width;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* row = rows.data() + k * width;
+    const Vec3 p{row[0], row[1], row[2]};
+    if (pcomm_->owner_of(p) != decomp_->rank()) continue;
+    const std::size_t i = s.n_owned();
+    s.resize(i + 1, i + 1);
+    s.unpack(i, false, row);
+  }
+  bodies_->begin_step();
+}
+
+void SeaweedScenario::check_health() {
+  lbm_->check_health();
+  auto& s = bodies_->set();
+  for (std::size_t i = 0; i < s.n_owned(); ++i) {
+    const Vec3 p = s.pos(i);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw core::UnstableError(
+          fmt::format("seaweed: sphere {} non-finite at step {}", s.id(i), step_));
+  }
+}
+
+std::string SeaweedScenario::progress() {
+  return fmt::format("clusters {} largest {:.2f} contacts {} broken {}", last_.clusters,
+                     last_.largest_share, last_.contacts, last_.broken_joints);
+}
+
+std::vector<std::string> SeaweedScenario::timer_sections() const {
+  return {"growth", "lbm", "particles", "coupling", "clusters", "output", "checkpoint"};
+}
+
+}  // namespace biota::scenarios

@@ -1,0 +1,56 @@
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <vector>
+
+#include "grid/decomposition.hpp"
+
+using namespace biota::grid;
+
+TEST(BlockStart, UnevenSplitGivesLargerBlocksFirst) {
+  EXPECT_EQ(block_start(100, 3, 0), 0);
+  EXPECT_EQ(block_start(100, 3, 1), 34);
+  EXPECT_EQ(block_start(100, 3, 2), 67);
+  EXPECT_EQ(block_start(100, 3, 3), 100);
+  EXPECT_EQ(block_start(7, 7, 7), 7);
+}
+
+TEST(Decomposition, BoxesTileTheDomainExactlyOnce) {
+  for (Index3 n : {Index3{100, 7, 5}, Index3{3, 4, 5}, Index3{17, 17, 17}}) {
+    Decomposition d(MPI_COMM_WORLD, n, {false, true, false});
+    long long local = d.local_cells().product(), total = 0;
+    MPI_Allreduce(&local, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    EXPECT_EQ(total, n.product());
+    // Every cell of my box is owned by me; owner_of_cell agrees with box_of for all cells.
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) {
+          const bool mine = d.local_box().contains({i, j, k});
+          ASSERT_EQ(d.owner_of_cell({i, j, k}) == d.rank(), mine) << i << " " << j << " " << k;
+        }
+    // Periodic wrap on y: the owner of y = -1 is the owner of y = ny - 1.
+    EXPECT_EQ(d.owner_of_cell({0, -1, 0}), d.owner_of_cell({0, n.y - 1, 0}));
+    EXPECT_EQ(d.owner_of_point({0.5, n.y + 0.25, 0.5}), d.owner_of_cell({0, 0, 0}));
+  }
+}
+
+TEST(Decomposition, NeighboursAreMutual) {
+  Decomposition d(MPI_COMM_WORLD, {30, 20, 10}, {true, false, true});
+  for (int a = 0; a < 3; ++a) {
+    // Send my rank to the high neighbour; what I receive from the low one must be its rank.
+    int mine = d.rank(), from_low = -2;
+    MPI_Sendrecv(&mine, 1, MPI_INT, d.neighbor(a, 1), 0, &from_low, 1, MPI_INT, d.neighbor(a, 0), 0,
+                 d.comm(), MPI_STATUS_IGNORE);
+    if (d.neighbor(a, 0) != MPI_PROC_NULL) EXPECT_EQ(from_low, d.neighbor(a, 0));
+    if (!d.periodic(a) && d.coords()[a] == 0) EXPECT_EQ(d.neighbor(a, 0), MPI_PROC_NULL);
+  }
+}
+
+TEST(Decomposition, ForcedDimsAreHonoured) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  Decomposition d(MPI_COMM_WORLD, {4, 4, 90}, {false, false, false}, {1, 1, 0});
+  EXPECT_EQ(d.dims().x, 1);
+  EXPECT_EQ(d.dims().y, 1);
+  EXPECT_EQ(d.dims().z, size);
+}

@@ -1,0 +1,71 @@
+#!/usr/bin/env python3
+"""Feed malformed decks to `biota run` and check: exit code 2, a one-line error naming the key (or
+file), and no output written. Usage: run_bad_decks.py <biota> <mpiexec>"""
+import os
+import subprocess
+import sys
+import tempfile
+
+BIOTA, MPIEXEC = sys.argv[1], sys.argv[2]
+
+GOOD = """scenario = "tank"
+[run]
+steps = 2
+[output]
+dir = "{out}"
+[checkpoint]
+dir = "{out}/ckpt"
+[lbm]
+nx = 8
+ny = 8
+nz = 8
+tau = 0.6
+"""
+
+# (name, deck text or None for a missing file, extra args, substring the message must contain)
+CASES = [
+    ("syntax error", 'scenario = "tank"\n[run\nsteps = 2\n', [], "syntax"),
+    ("unknown key", GOOD + "typo_key = 3\n", [], "typo_key"),
+    ("unknown nested key", GOOD.replace("tau = 0.6", "tau = 0.6\ntua = 0.7"), [], "lbm.tua"),
+    ("wrong type", GOOD.replace("steps = 2", 'steps = "two"'), [], "run.steps"),
+    ("tau at 0.5", GOOD.replace("tau = 0.6", "tau = 0.5"), [], "lbm.tau"),
+    ("tau below 0.5", GOOD.replace("tau = 0.6", "tau = 0.3"), [], "lbm.tau"),
+    ("negative size", GOOD.replace("nx = 8", "nx = -8"), [], "lbm.nx"),
+    ("negative dx", GOOD + "", ["--set", "lbm.dx=-0.01"], "lbm.dx"),
+    ("zero dt", GOOD.replace("tau = 0.6", "tau = 0.6\ndt = 0.0"), [], "lbm.dt"),
+    ("unknown lattice", GOOD.replace("tau = 0.6", 'tau = 0.6\nlattice = "D2Q9"'), [], "lbm.lattice"),
+    ("unknown boundary", GOOD + '[lbm.boundary]\nx_lo = "sticky"\n', [], "lbm.boundary.x_lo"),
+    ("half periodic", GOOD + '[lbm.boundary]\nx_lo = "periodic"\n', [], "lbm.boundary.x_hi"),
+    ("unknown scenario", GOOD.replace('"tank"', '"ocean"'), [], "scenario"),
+    ("missing scenario", GOOD.replace('scenario = "tank"', ""), [], "scenario"),
+    ("missing file", None, [], "cannot open deck"),
+    ("tau and viscosity", GOOD.replace("tau = 0.6", "tau = 0.6\nviscosity = 1e-6"), [], "lbm.tau"),
+    ("Mach too high", GOOD + '[lbm.inlet]\nface = "z_lo"\nspeed = 100.0\nradius = 0.02\n', [], "Mach"),
+    ("no run length", GOOD.replace("steps = 2", ""), [], "run.steps"),
+    ("unwritable output dir", GOOD.replace('dir = "{out}"', 'dir = "/proc/biota_out"'), [], "output.dir"),
+    ("bad --set", GOOD, ["--set", "run.steps=-3"], "run.steps"),
+    ("unknown --set key", GOOD, ["--set", "lbm.speed=3"], "lbm.speed"),
+    ("missing restart file", GOOD, ["--restart", "/nonexistent/ckpt.h5"], "ckpt.h5"),
+    ("list of wrong length", GOOD + '[lbm.inlet]\ncenter = [0.5]\n', [], "lbm.inlet.center"),
+    ("out-of-range pulse", GOOD + '[lbm.inlet]\npulse_amplitude = 2.0\n', [], "lbm.inlet.pulse_amplitude"),
+]
+
+failures = 0
+with tempfile.TemporaryDirectory() as tmp:
+    for i, (name, text, extra, needle) in enumerate(CASES):
+        out = os.path.join(tmp, f"out{i}")
+        deck = os.path.join(tmp, f"deck{i}.toml")
+        if text is not None:
+            with open(deck, "w") as f:
+                f.write(text.replace("{out}", out))
+        else:
+            deck = os.path.join(tmp, "does_not_exist.toml")
+        cmd = [MPIEXEC, "-n", "2", BIOTA, "run", deck] + extra
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        err_lines = [l for l in p.stderr.splitlines() if l.startswith("biota: error:")]
+        ok = p.returncode == 2 and len(err_lines) == 1 and needle in err_lines[0] \
+            and not os.path.exists(os.path.join(out, "tank.pvd"))
+        print(f"{'ok  ' if ok else 'FAIL'} {name:24s} exit={p.returncode} {err_lines[0] if err_lines else p.stderr.strip()[-300:]}")
+        failures += not ok
+print(f"{len(CASES) - failures}/{len(CASES)} bad decks rejected correctly")
+sys.exit(1 if failures else 0)
