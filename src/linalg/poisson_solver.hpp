@@ -32,8 +32,7 @@ struct SolveStats {
 };
 
 /// \brief Solves L p = rhs. Options prefix `poisson_`; default `-poisson_ksp_type cg
-/// -poisson_pc_type hypre` (BoomerAMG; `gamg` if PETSc was built without hypre), unpreconditioned
-/// residual norm, rtol 1e-10.
+/// -poisson_pc_type gamg`, unpreconditioned residual norm, rtol 1e-10.
 class PoissonSolver {
  public:
   /// \param solid optional cell mask (1 solid, 0 fluid) with at least one valid ghost layer.
