@@ -16,6 +16,7 @@
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/mpi_io_workaround.hpp"
+#include "linalg/petsc_environment.hpp"
 #include "scenarios/scenario.hpp"
 
 #ifndef BIOTA_VERSION
@@ -53,9 +54,9 @@ std::string version_text() {
   unsigned maj = 0, min = 0, rel = 0;
   H5get_libversion(&maj, &min, &rel);
   return fmt::format(
-      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  VTK: {}\n  toml++: "
+      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n  VTK: {}\n  toml++: "
       "{}.{}.{}\n  fmt: {}\n  compiler: {}",
-      BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel,
+      BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel, linalg::version(),
       vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH, FMT_VERSION,
       __VERSION__);
 }

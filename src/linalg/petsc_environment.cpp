@@ -34,6 +34,11 @@ bool initialized() {
   return init == PETSC_TRUE;
 }
 
+std::string version() {
+  return std::to_string(PETSC_VERSION_MAJOR) + "." + std::to_string(PETSC_VERSION_MINOR) + "." +
+         std::to_string(PETSC_VERSION_SUBMINOR);
+}
+
 void initialize(const std::vector<std::string>& petsc_args) {
   std::vector<std::string> args{"biota"};
   args.insert(args.end(), petsc_args.begin(), petsc_args.end());

@@ -24,6 +24,8 @@ void ensure_initialized();
 void finalize();
 /// \brief True between initialize and finalize.
 bool initialized();
+/// \brief PETSc version string, e.g. "3.18.5" (for `biota --version`).
+std::string version();
 
 /// \brief Add options from a deck string (e.g. "-poisson_ksp_rtol 1e-10 -poisson_pc_type mg")
 /// unless the command line already set them (the command line wins). Every option must start
