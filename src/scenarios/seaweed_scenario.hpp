@@ -37,11 +37,12 @@ class SeaweedScenario : public Scenario {
  private:
   void write_particles();
   void record_metrics();
+  void open_csv();
+  long long last_broken_total();
 
   RunContext ctx_;
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::lbm::LbmSolver> lbm_;
-  std::unique_ptr<grid::HaloExchange> force_halo_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
   std::unique_ptr<coupling::TrilinearCoupling> coupling_;
   std::unique_ptr<models::plants::SeaweedBodies> bodies_;
@@ -53,6 +54,7 @@ class SeaweedScenario : public Scenario {
   long long step_ = 0;
   models::plants::ClusterMetrics last_{};
   std::ofstream csv_;
+  bool csv_started_ = false;
   double t_lbm_[3] = {0, 0, 0};
 };
 
