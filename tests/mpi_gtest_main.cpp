@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "core/mpi_io_workaround.hpp"
+
 int main(int argc, char** argv) {
+  biota::core::select_reliable_mpi_io();
   MPI_Init(&argc, &argv);
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;

@@ -14,6 +14,7 @@
 #include "app/run_loop.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
+#include "core/mpi_io_workaround.hpp"
 #include "scenarios/scenario.hpp"
 
 #ifndef BIOTA_VERSION
@@ -29,7 +30,10 @@ using namespace biota;
 
 /// Owns MPI for the life of the process (the only singleton the design allows).
 struct MpiEnvironment {
-  MpiEnvironment(int& argc, char**& argv) { MPI_Init(&argc, &argv); }
+  MpiEnvironment(int& argc, char**& argv) {
+    core::select_reliable_mpi_io();
+    MPI_Init(&argc, &argv);
+  }
   ~MpiEnvironment() { MPI_Finalize(); }
 };
 

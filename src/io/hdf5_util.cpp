@@ -11,6 +11,28 @@ hid_t check_id(hid_t id, const std::string& what) {
   if (id < 0) throw std::runtime_error("HDF5: " + what + " failed");
   return id;
 }
+// Select this rank's block [offset, offset+count) in `fspace`; return the matching memory space.
+// A rank with nothing to do still takes part in the collective call with an empty selection.
+hid_t select_block(hid_t fspace, const std::vector<hsize_t>& offset,
+                   const std::vector<hsize_t>& count) {
+  hsize_t n = 1;
+  for (auto c : count) n *= c;
+  hid_t mspace = H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr);
+  if (n == 0) {
+    H5Sselect_none(fspace);
+    H5Sselect_none(mspace);
+  } else {
+    H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
+  }
+  return mspace;
+}
+
+hid_t collective_transfer() {
+  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  return dxpl;
+}
+
 }  // namespace
 
 hid_t create_parallel(const std::string& path, MPI_Comm comm) {
@@ -56,17 +78,8 @@ void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>
   hid_t dset = check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT,
                                    H5P_DEFAULT),
                         "create dataset " + name);
-  hsize_t n = 1;
-  for (auto c : count) n *= c;
-  hid_t mspace = H5Screate_simple(rank, count.data(), nullptr);
-  if (n == 0) {
-    H5Sselect_none(fspace);
-    H5Sselect_none(mspace);
-  } else {
-    H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
-  }
-  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  hid_t mspace = select_block(fspace, offset, count);
+  hid_t dxpl = collective_transfer();
   check(H5Dwrite(dset, type, mspace, fspace, dxpl, data), "write " + name);
   H5Pclose(dxpl);
   H5Sclose(mspace);
@@ -78,18 +91,8 @@ void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>&
                 const std::vector<hsize_t>& count, void* data, hid_t type) {
   hid_t dset = check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
   hid_t fspace = H5Dget_space(dset);
-  const int rank = static_cast<int>(count.size());
-  hsize_t n = 1;
-  for (auto c : count) n *= c;
-  hid_t mspace = H5Screate_simple(rank, count.data(), nullptr);
-  if (n == 0) {
-    H5Sselect_none(fspace);
-    H5Sselect_none(mspace);
-  } else {
-    H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
-  }
-  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  hid_t mspace = select_block(fspace, offset, count);
+  hid_t dxpl = collective_transfer();
   check(H5Dread(dset, type, mspace, fspace, dxpl, data), "read " + name);
   H5Pclose(dxpl);
   H5Sclose(mspace);

@@ -16,6 +16,9 @@ TankScenario::TankScenario(const RunContext& ctx) : ctx_(ctx) {
   auto params = solvers::lbm::LbmParams::from_config(ctx.config);
   decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
+  if (decomp_->rank() == 0)
+    fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),
+               decomp_->dims().x, decomp_->dims().y, decomp_->dims().z);
   last_wall_ = MPI_Wtime();
 }
 

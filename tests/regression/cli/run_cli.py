@@ -73,5 +73,14 @@ with tempfile.TemporaryDirectory() as tmp:
     expect("received signal" in out and glob.glob(f"{tmp}/sig/tank_*.h5"),
            "SIGTERM writes a checkpoint")
 
+    # A diverging run stops with exit code 3, naming step, position and the last good checkpoint.
+    p = run(2, ["run", DECK, "--set", "lbm.nx=16", "--set", "lbm.ny=16", "--set", "lbm.nz=16",
+                "--set", "lbm.body_force=[0, 0, 3e5]", "--set", "run.steps=2000",
+                "--set", "run.health_interval=10", "--set", "checkpoint.interval=5",
+                "--set", f"output.dir={tmp}/unstable", "--set", f"checkpoint.dir={tmp}/unstable/c"])
+    expect(p.returncode == 3 and "unstable at step" in p.stderr and "m" in p.stderr
+           and "last good checkpoint: " + f"{tmp}/unstable/c/tank_" in p.stderr,
+           f"unstable run stops with exit 3 and names the checkpoint ({p.stderr.strip()[:300]})")
+
 print(f"{len(failures)} failures")
 sys.exit(1 if failures else 0)
