@@ -33,6 +33,10 @@ class SeaweedScenario : public Scenario {
   void check_health() override;
   std::string progress() override;
   std::vector<std::string> timer_sections() const override;
+  /// \brief The plant bodies (tests and diagnostics).
+  const models::plants::SeaweedBodies& bodies() const { return *bodies_; }
+  /// \brief The fluid solver (tests and diagnostics).
+  const solvers::lbm::LbmSolver& lbm() const { return *lbm_; }
 
  private:
   void write_particles();
