@@ -77,6 +77,20 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     bodies_->build(pop, n_plants_);
   }
   const long long n = bodies_->global_count();
+  {  // Plants grown beyond the tank start inside the wall springs: warn (they are pushed back
+     // hard).
+    const auto& st = bodies_->set();
+    long long outside = 0;
+    for (std::size_t i = 0; i < st.n_owned(); ++i)
+      for (int d = 0; d < 3; ++d)
+        outside += st.pos(i)[d] < mpar.radius || st.pos(i)[d] > L[d] - mpar.radius ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_LONG_LONG, MPI_SUM, ctx.comm);
+    if (outside > 0 && decomp_->rank() == 0)
+      fmt::print(
+          "seaweed: WARNING: {} sphere coordinates start outside the tank (less than one "
+          "radius from a wall); move the placement box or use a larger tank\n",
+          outside);
+  }
   if (bodies_->ghost_cutoff() < dx)
     throw core::InputError(
         "seaweed: particle ghost cutoff below one lattice cell; spreading "
@@ -139,6 +153,11 @@ void SeaweedScenario::step() {
     const double to_si = units.velocity_to_si(1.0);
     for (std::size_t i = 0; i < set.n_owned(); ++i) {
       const Vec3 x = set.pos(i);
+      if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
+        throw core::UnstableError(fmt::format(
+            "seaweed: sphere {} non-finite at step {} (with two-way coupling, too many spheres "
+            "per lattice cell make the explicit reaction unstable; see docs/seaweed.md)",
+            set.id(i), step_));
       set.set_vec3(bodies_->a_xs, i, x);
       set.set_vec3(bodies_->a_uf, i,
                    coupling_->interpolate(lbm_->velocity(), coupling_->stencil(x)) * to_si);
