@@ -155,8 +155,8 @@ void SeaweedScenario::step() {
       const Vec3 x = set.pos(i);
       if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
         throw core::UnstableError(fmt::format(
-            "seaweed: sphere {} non-finite at step {} (with two-way coupling, too many spheres "
-            "per lattice cell make the explicit reaction unstable; see docs/seaweed.md)",
+            "seaweed: sphere {} non-finite at step {} (typical cause: plants grown through the "
+            "tank walls, see the start-up warning; docs/seaweed.md)",
             set.id(i), step_));
       set.set_vec3(bodies_->a_xs, i, x);
       set.set_vec3(bodies_->a_uf, i,

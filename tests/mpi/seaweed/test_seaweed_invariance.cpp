@@ -29,9 +29,9 @@ const char* kDeck = R"(
 [lbm]
 lattice = "D3Q15"
 collision = "bgk"
-nx = 24
-ny = 24
-nz = 24
+nx = 32
+ny = 32
+nz = 32
 dx = 0.01
 dt = 0.0016666666666666668
 tau = 0.533
@@ -45,26 +45,26 @@ z_lo = "wall"
 z_hi = "free_slip"
 [lbm.inlet]
 face = "z_lo"
-center = [0.12, 0.12]
+center = [0.16, 0.16]
 radius = 0.04
-speed = 0.2
+speed = 0.3
 profile = "parabolic"
 ramp_time = 0.05
 [lbm.outlet]
 face = "z_lo"
 type = "pressure"
-center = [0.12, 0.12]
-r_min = 0.09
+center = [0.16, 0.16]
+r_min = 0.12
 [growth]
 cycles = 3
-env_radius = 0.1
+env_radius = 0.12
 [seaweed]
 plants = 4
 two_way = true
 metrics_interval = 5
 [seaweed.placement]
-lo = [0.07, 0.07, 0.10]
-hi = [0.17, 0.17, 0.17]
+lo = [0.12, 0.12, 0.13]
+hi = [0.20, 0.20, 0.19]
 min_spacing = 0.05
 )";
 
