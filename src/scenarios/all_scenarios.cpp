@@ -1,6 +1,7 @@
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
+#include "scenarios/wind_scenario.hpp"
 
 namespace biota::scenarios {
 
@@ -16,6 +17,11 @@ std::vector<ScenarioInfo> all_scenarios() {
        &SeaweedScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<SeaweedScenario>(c);
+       }},
+      {"wind", "wind over open ground on the staggered MAC solver (tree paper section 4)",
+       &WindScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<WindScenario>(c);
        }},
   };
 }
