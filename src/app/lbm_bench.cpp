@@ -49,14 +49,14 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   MPI_Comm_size(comm, &size);
   const double bw = stream_triad(comm);
   if (rank == 0) {
-    fmt::print("biota bench lbm: {}^3 cells, {} ranks, {} timed steps per case\n", opts.size,
-               size, opts.steps);
+    fmt::print("biota bench lbm: {}^3 cells, {} ranks, {} timed steps per case\n", opts.size, size,
+               opts.steps);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
     fmt::print("{:<6} {:<4} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "lattice", "coll", "MLUPS",
                "roof(16Q)", "roof(24Q)", "%16Q", "%24Q", "halo%");
   }
-  for (Case c : {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"},
-                 Case{"D3Q19", "trt"}}) {
+  for (Case c :
+       {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"}, Case{"D3Q19", "trt"}}) {
     // The tank configuration: walls, free-slip top, inlet jet, outlet annulus, Guo forcing on.
     solvers::lbm::LbmParams p;
     p.lattice = c.lattice;

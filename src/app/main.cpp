@@ -1,15 +1,16 @@
 /// \file main.cpp
 /// \brief The `biota` executable: run, check, bench, reference, --version.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <hdf5.h>
 #include <mpi.h>
 #include <vtkVersion.h>
+#include <CLI/CLI.hpp>
 
+#include <toml++/toml.h>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
+#include "app/flock_bench.hpp"
 #include "app/lbm_bench.hpp"
 #include "app/run_loop.hpp"
 #include "core/config.hpp"
@@ -87,8 +88,8 @@ scenarios::ScenarioInfo scenario_of(const std::string& deck,
                            names + "}");
   for (auto& s : all)
     if (s.name == name) return s;
-  throw core::InputError(fmt::format("{}: scenario = \"{}\" is not a known scenario; allowed: one of {{{}}}",
-                                     deck, name, names));
+  throw core::InputError(fmt::format(
+      "{}: scenario = \"{}\" is not a known scenario; allowed: one of {{{}}}", deck, name, names));
 }
 
 core::ConfigSchema schema_for(const scenarios::ScenarioInfo& info) {
@@ -132,12 +133,16 @@ int main(int argc, char** argv) {
   check->add_option("deck", deck, "TOML input deck")->required();
   check->add_option("--set", overrides, "override a deck key: --set key=value (repeatable)");
   auto* reference = cli.add_subcommand("reference", "print the deck reference (markdown)");
-  auto* bench = cli.add_subcommand("bench", "benchmarks: `biota bench lbm`");
+  auto* bench = cli.add_subcommand("bench", "benchmarks: `biota bench lbm` / `biota bench flock`");
   std::string bench_what = "lbm";
   app::LbmBenchOptions bench_opts;
-  bench->add_option("what", bench_what, "what to benchmark")->check(CLI::IsMember({"lbm"}));
+  bench->add_option("what", bench_what, "what to benchmark")
+      ->check(CLI::IsMember({"lbm", "flock"}));
   bench->add_option("--size", bench_opts.size, "cells per axis");
   bench->add_option("--steps", bench_opts.steps, "timed steps per case");
+  app::FlockBenchOptions flock_opts;
+  bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
+  bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
   try {
     cli.parse(own_argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,6 +162,10 @@ int main(int argc, char** argv) {
                      schema_for(s).reference_markdown());
       }
       return 0;
+    }
+    if (*bench && bench_what == "flock") {
+      flock_opts.steps = bench_opts.steps == 200 ? flock_opts.steps : bench_opts.steps;
+      return app::run_flock_bench(MPI_COMM_WORLD, flock_opts);
     }
     if (*bench) return app::run_lbm_bench(MPI_COMM_WORLD, bench_opts);
     if (*run || *check) {

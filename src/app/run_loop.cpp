@@ -14,7 +14,9 @@ namespace biota::app {
 namespace {
 
 std::atomic<int> g_signal{0};
-extern "C" void on_signal(int sig) { g_signal.store(sig); }
+extern "C" void on_signal(int sig) {
+  g_signal.store(sig);
+}
 
 bool rank0(MPI_Comm comm) {
   int r = 0;
@@ -29,7 +31,8 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
   if (rank0(comm)) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    if (with_vtk && !ec) std::filesystem::create_directories(std::filesystem::path(dir) / "vtk", ec);
+    if (with_vtk && !ec)
+      std::filesystem::create_directories(std::filesystem::path(dir) / "vtk", ec);
     const auto probe = std::filesystem::path(dir) / ".biota_write_test";
     FILE* f = ec ? nullptr : std::fopen(probe.c_str(), "w");
     if (!f)
@@ -58,8 +61,7 @@ void declare_common_config(core::ConfigSchema& s) {
   s.add_int("run.steps", std::nullopt, 0, std::nullopt,
             "(optional) last step number; the run ends at run.steps or run.end_time, whichever "
             "comes first");
-  s.add_real("run.end_time", std::nullopt, 0.0, std::nullopt, "s",
-             "(optional) simulated end time");
+  s.add_real("run.end_time", std::nullopt, 0.0, std::nullopt, "s", "(optional) simulated end time");
   s.add_int("run.progress_interval", 100, 1, std::nullopt, "steps between progress lines");
   s.add_int("run.health_interval", 100, 1, std::nullopt,
             "steps between checks for non-finite or out-of-range state");
@@ -91,8 +93,9 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     if (!std::filesystem::exists(restart_path))
       throw core::InputError(restart_path + ": --restart checkpoint does not exist");
     scenario->read_checkpoint(restart_path);
-    if (root) fmt::print("restarted from {} at step {}, t = {:.6g} s\n", restart_path,
-                         scenario->step_index(), scenario->time());
+    if (root)
+      fmt::print("restarted from {} at step {}, t = {:.6g} s\n", restart_path,
+                 scenario->step_index(), scenario->time());
   }
   ensure_dir(comm, cfg, "output.dir", out_dir, true);
   ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
@@ -100,15 +103,15 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   const double dt = scenario->dt();
   long long last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;
   if (cfg.has("run.end_time"))
-    last_step = std::min(last_step, static_cast<long long>(std::llround(cfg.get_real("run.end_time") / dt)));
+    last_step = std::min(last_step,
+                         static_cast<long long>(std::llround(cfg.get_real("run.end_time") / dt)));
   const long long out_every = cfg.get_int("output.interval");
   const long long ckpt_every = cfg.get_int("checkpoint.interval");
   const long long progress_every = cfg.get_int("run.progress_interval");
   const long long health_every = cfg.get_int("run.health_interval");
   std::string last_checkpoint = restart_path.empty() ? "(none)" : restart_path;
   auto checkpoint = [&](const char* why) {
-    const std::string path =
-        fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
+    const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
     scenario->write_checkpoint(path);
     last_checkpoint = path;
     if (root) fmt::print("checkpoint ({}) written: {}\n", why, path);
@@ -153,7 +156,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   }
   const double wall = MPI_Wtime() - wall0;
   std::string table = timers.report(comm, wall);
-  if (root) fmt::print("\ntiming breakdown ({} steps):\n{}", scenario->step_index() - first_step, table);
+  if (root)
+    fmt::print("\ntiming breakdown ({} steps):\n{}", scenario->step_index() - first_step, table);
   return core::kExitOk;
 }
 

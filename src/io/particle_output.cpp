@@ -101,7 +101,7 @@ void ParticleOutput::write(const ParticleData& d) {
     write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
   for (const auto& [name, v] : d.vectors)
     write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
-  {
+  if (l_tot > 0) {  // a zero-size global dataset cannot be written (point clouds have no lines)
     std::vector<double> lpos(6 * nl);
     std::vector<std::uint64_t> lids(2 * nl), conn(2 * nl);
     for (std::size_t k = 0; k < nl; ++k)

@@ -96,8 +96,14 @@ void ParticleComm::migrate(ParticleSet& set) {
     }
     // Done when every particle is home (at most a few rounds when a move spans several ranks).
     long long away = 0;
-    const int me = decomp_.rank();
-    for (std::size_t i = 0; i < set.n_owned(); ++i) away += owner_of(set.pos(i)) != me;
+    // Compare rank coordinates directly (no MPI_Cart_rank per particle): same test as owner_of.
+    for (std::size_t i = 0; i < set.n_owned(); ++i)
+      for (int d = 0; d < 3; ++d)
+        if (decomp_.dims()[d] > 1 &&
+            axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
+          ++away;
+          break;
+        }
     long long total = 0;
     MPI_Allreduce(&away, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
     if (total == 0) break;

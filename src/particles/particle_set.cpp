@@ -1,5 +1,6 @@
 #include "particles/particle_set.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <stdexcept>
 
@@ -82,6 +83,21 @@ void ParticleSet::remove_owned(const std::vector<char>& remove) {
     ++w;
   }
   resize(w, w);
+}
+
+void ParticleSet::reorder_owned(const std::vector<std::size_t>& order) {
+  if (order.size() != n_owned_) throw std::invalid_argument("reorder_owned: order size != n_owned");
+  resize(n_owned_, n_owned_);
+  std::vector<Real> rt(n_owned_);
+  for (auto& c : rcol_) {
+    for (std::size_t m = 0; m < n_owned_; ++m) rt[m] = c[order[m]];
+    std::copy(rt.begin(), rt.end(), c.begin());
+  }
+  std::vector<std::uint64_t> ut(n_owned_);
+  for (auto& c : ucol_) {
+    for (std::size_t m = 0; m < n_owned_; ++m) ut[m] = c[order[m]];
+    std::copy(ut.begin(), ut.end(), c.begin());
+  }
 }
 
 void ParticleSet::zero_real(int a) {

@@ -101,6 +101,11 @@ class ParticleSet {
   /// \brief Remove owned particles flagged in `remove` (size n_owned); drops ghosts. Order of the
   /// remaining particles is kept.
   void remove_owned(const std::vector<char>& remove);
+  /// \brief Permute the owned particles: new slot m holds old owned particle order[m] (a
+  /// permutation of [0, n_owned)); drops ghosts. Used to keep storage in spatial (cell) order so
+  /// that neighbour loops touch memory in order; results never depend on the storage order.
+  /// \throws std::invalid_argument if order.size() != n_owned().
+  void reorder_owned(const std::vector<std::size_t>& order);
   /// \brief Zero one real attribute on owned and ghost particles.
   void zero_real(int a);
 

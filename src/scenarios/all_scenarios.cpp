@@ -1,3 +1,4 @@
+#include "scenarios/flock_scenario.hpp"
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
@@ -22,6 +23,13 @@ std::vector<ScenarioInfo> all_scenarios() {
        &WindScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<WindScenario>(c);
+       }},
+      {"flock",
+       "Boids taking off in chaos-game order, schooling, attacked by predators, breaking up in "
+       "3D-sandpile avalanches, with 1/f (fBm) noise",
+       &FlockScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<FlockScenario>(c);
        }},
   };
 }

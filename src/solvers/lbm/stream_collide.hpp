@@ -55,10 +55,12 @@ void stream_collide(const SweepArgs& a) {
         double f[Q];
         if constexpr (kSolids) {
           if (a.solid[c]) {
+#pragma GCC unroll 32
             for (int q = 0; q < Q; ++q) dp[q][c] = L::w[q];
             continue;
           }
         }
+#pragma GCC unroll 32
         for (int q = 0; q < Q; ++q) f[q] = sp[q][c];
         double gx = 0, gy = 0, gz = 0;
         if constexpr (kForce == ForceMode::kUniform) {
@@ -72,6 +74,7 @@ void stream_collide(const SweepArgs& a) {
         }
         double rho, vx, vy, vz;
         collide<L, kTrt>(f, a.relax, gx, gy, gz, rho, vx, vy, vz);
+#pragma GCC unroll 32
         for (int q = 0; q < Q; ++q) dp[q][c] = f[q];
         if constexpr (kMacro) {
           rp[c] = rho;

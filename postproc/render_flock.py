@@ -1,0 +1,58 @@
+"""Render a snapshot of the flock (PNG) with ParaView, headless:
+
+    xvfb-run -a pvpython postproc/render_flock.py <output.dir> <out.png> [index]
+
+Reads <output.dir>/flock_boids.pvd (boids as spheres coloured by state: 0 grounded, 1 flying,
+2 fleeing after an avalanche, 3 predator) and, if present, <output.dir>/flock_sandpile.pvd (the
+L^3 sandpile heights, drawn as a small translucent cube beside the box). `index` picks the time
+step (default: the last).
+"""
+import os
+import sys
+
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
+                             OpenDataFile, Render, SaveScreenshot, Show, UpdatePipeline)
+
+out_dir, png = sys.argv[1], sys.argv[2]
+index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+view = GetActiveViewOrCreate("RenderView")
+view.ViewSize = [1200, 900]
+try:
+    view.UseColorPaletteForBackground = 0
+except AttributeError:
+    pass
+view.Background = [1, 1, 1]
+
+boids = OpenDataFile(os.path.join(out_dir, "flock_boids.pvd"))
+try:
+    times = [float(v) for v in boids.TimestepValues]
+except TypeError:
+    times = [float(boids.TimestepValues)]
+if not times:
+    times = [0.0]
+t = times[index]
+UpdatePipeline(time=t, proxy=boids)
+view.ViewTime = t
+
+g = Glyph(Input=boids, GlyphType="Sphere")
+g.ScaleArray = ["POINTS", "No scale array"]
+g.ScaleFactor = 0.6
+g.GlyphMode = "All Points"
+gd = Show(g, view)
+ColorBy(gd, ("POINTS", "state"))
+lut = GetColorTransferFunction("state")
+lut.RescaleTransferFunction(0.0, 3.0)
+
+pile = os.path.join(out_dir, "flock_sandpile.pvd")
+if os.path.exists(pile):
+    lattice = OpenDataFile(pile)
+    UpdatePipeline(time=t, proxy=lattice)
+    d = Show(lattice, view)
+    d.SetRepresentationType("Surface")
+    ColorBy(d, ("CELLS", "height"))
+    d.Opacity = 0.5
+
+view.ResetCamera()
+Render(view)
+SaveScreenshot(png, view, ImageResolution=[1200, 900])
+print("wrote", png, "time", t)

@@ -1,0 +1,101 @@
+#include "app/flock_bench.hpp"
+
+#include <fmt/format.h>
+
+#include <time.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/config.hpp"
+#include "core/timers.hpp"
+#include "models/flock/sandpile.hpp"
+#include "scenarios/flock_scenario.hpp"
+
+namespace biota::app {
+
+int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  core::ConfigSchema schema;
+  schema.add_string("scenario", std::nullopt, {}, "scenario");
+  schema.add_int("seed", 12345, 0, std::nullopt, "seed");
+  scenarios::FlockScenario::declare_config(schema);
+  const double R = 3.0;
+  if (rank == 0)
+    fmt::print(
+        "flock benchmark: {} rank(s), uniform random boids in a periodic box, perception radius "
+        "{} m (bins of radius/{}), target {} boids within it, no predator, no noise, {} timed "
+        "steps\n"
+        "(updates/s/core: wall clock; per CPU-s: per second of CPU time the ranks received, which "
+        "differs on a shared machine)\n"
+        "{:>9} {:>8} {:>10} {:>12} {:>14} {:>14} {:>8} {:>8} {:>8}\n",
+        size, R, opts.reach, opts.neighbours, opts.steps, "boids", "box [m]", "perceived",
+        "step [ms]", "updates/s/core", "per CPU-s", "rules %", "comm %", "other %");
+  for (long long n : opts.boids) {
+    // Density for `neighbours` boids in the perception sphere; box a multiple of dx = R.
+    const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
+    const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
+    const std::string deck = fmt::format(
+        "scenario = \"flock\"\nseed = 1\n[flock]\nstats_interval = 1000000\n"
+        "[flock.domain]\nsize = [{0}, {0}, {0}]\ndx = {1}\nboundary = \"periodic\"\nbin_reach = "
+        "{3}\n"
+        "[flock.boids]\nperception_radius = {1}\n[flock.prey]\ncount = {2}\n"
+        "[flock.predator]\ncount = 0\n[flock.sandpile]\nsize = 4\n"
+        "[flock.noise]\nheading = 0.0\ncruising_distance = 0.0\nmax_speed = 0.0\n"
+        "[flock.takeoff]\nifs = \"uniform\"\n",
+        side, R, n, opts.reach);
+    const auto cfg = core::Config::from_string(schema, deck, "bench");
+    core::Timers timers;
+    scenarios::RunContext ctx{comm, cfg, timers, "bench_flock_out"};
+    scenarios::FlockScenario sc(ctx);
+    for (int k = 0; k < 3; ++k) sc.step();  // warm-up
+    timers = core::Timers{};
+    sc.reset_neighbour_count();
+    auto cpu_now = [] {
+      timespec ts{};
+      clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+      return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+    };
+    MPI_Barrier(comm);
+    const double t0 = MPI_Wtime(), c0 = cpu_now();
+    for (int k = 0; k < opts.steps; ++k) sc.step();
+    double cpu = cpu_now() - c0;
+    MPI_Barrier(comm);
+    const double t = MPI_Wtime() - t0;
+    MPI_Allreduce(MPI_IN_PLACE, &cpu, 1, MPI_DOUBLE, MPI_SUM, comm);
+    const double perceived = sc.mean_neighbours();
+    double sec[2] = {timers.total("rules"), timers.total("comm")};
+    MPI_Allreduce(MPI_IN_PLACE, sec, 2, MPI_DOUBLE, MPI_MAX, comm);
+    const double rate = double(n) * opts.steps / t / size;
+    const double rate_cpu = double(n) * opts.steps / cpu;  // per CPU-second actually received
+    if (rank == 0)
+      fmt::print(
+          "{:>9} {:>8.0f} {:>10.1f} {:>12.2f} {:>14.3e} {:>14.3e} {:>8.1f} {:>8.1f} {:>8.1f}\n", n,
+          side, perceived, 1e3 * t / opts.steps, rate, rate_cpu, 100 * sec[0] / t, 100 * sec[1] / t,
+          100 * (1 - (sec[0] + sec[1]) / t));
+  }
+  // Sandpile: topplings/s in the critical state (replicated, so every rank does the same work).
+  for (int L : {16, 32}) {
+    models::flock::Sandpile s(L, L, L, 1);
+    const std::uint64_t burn = 4 * static_cast<std::uint64_t>(s.num_sites());
+    for (std::uint64_t k = 0; k < burn; ++k)
+      s.add_grain(s.random_site(k), models::flock::ToppleOrder::kStack);
+    for (auto order : {models::flock::ToppleOrder::kStack, models::flock::ToppleOrder::kWaves}) {
+      const std::int64_t t0p = s.topplings();
+      const double t0 = MPI_Wtime();
+      std::uint64_t d = burn;
+      while (MPI_Wtime() - t0 < 1.0)
+        for (int k = 0; k < 1000; ++k) s.add_grain(s.random_site(d++), order);
+      const double t = MPI_Wtime() - t0;
+      if (rank == 0)
+        fmt::print("sandpile L = {:>2} {:<5}: {:.3e} topplings/s ({:.1f} per drive)\n", L,
+                   order == models::flock::ToppleOrder::kStack ? "stack" : "waves",
+                   double(s.topplings() - t0p) / t, double(s.topplings() - t0p) / double(d - burn));
+    }
+  }
+  return 0;
+}
+
+}  // namespace biota::app

@@ -1,0 +1,22 @@
+#pragma once
+/// \file flock_bench.hpp
+/// \brief `biota bench flock`: boid updates per second per core of the flock scenario's full step
+/// (rules + migration + ghosts + cell list) at ~20 neighbours, and sandpile topplings per second.
+#include <mpi.h>
+
+#include <vector>
+
+namespace biota::app {
+
+/// \brief Options of the flock benchmark.
+struct FlockBenchOptions {
+  std::vector<long long> boids = {10000, 100000, 1000000};  ///< prey counts
+  int steps = 20;                                           ///< timed steps per case
+  int reach = 1;                                            ///< flock.domain.bin_reach
+  double neighbours = 20;  ///< target mean number of boids within the perception radius
+};
+
+/// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.
+int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts);
+
+}  // namespace biota::app

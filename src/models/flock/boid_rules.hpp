@@ -1,0 +1,279 @@
+#pragma once
+/// \file boid_rules.hpp
+/// \brief Reynolds boid rules as pure kernels (spec boids.md 2.1 and 2.2; Reynolds 1987).
+///
+/// The paper gives no equations (spec ambiguity 14); the formulas are the standard ones of spec
+/// 2.1 [literature]. A boid's acceleration is built in three stages, each a pure function:
+///  1. accumulate_neighbour() over the perceived neighbours (perception radius and field of view),
+///     in a caller-fixed order (the scenario visits them sorted by global id within globally
+///     aligned bins, which makes floating-point sums decomposition-invariant);
+///  2. the rule accelerations (separation, alignment, cohesion, flee, chase, soft walls);
+///  3. prioritized_sum() — Reynolds' prioritised acceleration allocation — then integrate().
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "core/types.hpp"
+
+namespace biota::models::flock {
+
+using core::Real;
+using core::Vec3;
+
+/// \brief How alignment (velocity matching, spec 2.1 rule 2) picks its target.
+enum class AlignmentMode {
+  kNearest,  ///< match the nearest perceived boid (the paper's wording)
+  kAverage,  ///< match the mean velocity of the perceived boids (Reynolds 1987)
+};
+
+/// \brief Per-boid sums over perceived neighbours (stage 1).
+struct NeighbourSums {
+  Vec3 separation{};  ///< Σ (x_b - x_j)(d* - r)/r over neighbours closer than d*
+  Vec3 velocity{};    ///< Σ v_j
+  Vec3 position{};    ///< Σ (x_j - x_b) (relative, so that sums stay well-conditioned)
+  int count = 0;      ///< number of perceived neighbours
+  Real nearest_r2 = std::numeric_limits<Real>::infinity();  ///< squared distance of the nearest
+  std::uint64_t nearest_id = ~std::uint64_t{0};             ///< its global id (tie-break)
+  Vec3 nearest_velocity{};                                  ///< its velocity
+};
+
+/// \brief True if a boid moving with velocity `v` perceives a point at offset `d` (= x_j - x_b,
+/// |d|² = r2): inside the perception radius (r2 < radius2) and inside the field of view, a cone of
+/// half-angle acos(fov_cos) about v. fov_cos <= -1 means all around; a boid at rest sees all
+/// around (it has no heading).
+inline bool perceives(const Vec3& v, const Vec3& d, Real r2, Real radius2, Real fov_cos) {
+  if (r2 >= radius2 || r2 <= 0) return false;
+  if (fov_cos <= -1) return true;
+  const Real vd = core::dot(v, d), v2 = core::dot(v, v);
+  if (v2 == 0) return true;
+  // vd >= fov_cos |v||d| without square roots where the sign decides.
+  if (fov_cos >= 0) return vd >= 0 && vd * vd >= fov_cos * fov_cos * v2 * r2;
+  return vd >= 0 || vd * vd <= fov_cos * fov_cos * v2 * r2;
+}
+
+/// \brief Add one perceived neighbour j (offset d = x_j - x_b, r2 = |d|², velocity vj, id) to the
+/// sums of boid b whose optimal cruising distance is `d_star`. Separation follows spec 2.1:
+/// (x_b - x_j)(d* - r)/r for r < d*, a push that grows linearly as the pair closes in below d*.
+/// The nearest neighbour is chosen by (distance, id), so ties are broken identically everywhere.
+inline void accumulate_neighbour(NeighbourSums& s, const Vec3& d, Real r2, const Vec3& vj,
+                                 std::uint64_t id, Real d_star) {
+  if (r2 < d_star * d_star) {  // the square root only for the few pairs closer than d*
+    const Real r = std::sqrt(r2);
+    s.separation -= d * ((d_star - r) / r);
+  }
+  s.velocity += vj;
+  s.position += d;
+  ++s.count;
+  if (r2 < s.nearest_r2 || (r2 == s.nearest_r2 && id < s.nearest_id)) {
+    s.nearest_r2 = r2;
+    s.nearest_id = id;
+    s.nearest_velocity = vj;
+  }
+}
+
+/// \brief Branch-light fusion of perceives() and accumulate_neighbour() for the hot loop, for
+/// AlignmentMode::kAverage (the nearest neighbour is not tracked). Every candidate (d, r2, vj) of
+/// the cell list is passed; `eligible` says whether it may be a neighbour at all (a flying prey).
+/// Rejected candidates add exact zeros, so the sums are bitwise those of the two-step path over
+/// the same candidate order (tested); the unpredictable accept/reject decision costs no branch.
+/// `v2` = |v|², `c2` = fov_cos² (precomputed).
+inline void accumulate_candidate(NeighbourSums& s, const Vec3& v, Real v2, const Vec3& d, Real r2,
+                                 const Vec3& vj, bool eligible, Real radius2, Real fov_cos, Real c2,
+                                 Real d_star) {
+  const Real vd = core::dot(v, d), lim = c2 * v2 * r2;
+  const bool cone = fov_cos >= 0 ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
+  const bool fov = (fov_cos <= -1) | (v2 == 0) | cone;
+  const bool in = eligible & (r2 < radius2) & (r2 > 0) & fov;
+  if (in & (r2 < d_star * d_star)) {  // rare (pairs closer than d*): a predictable branch
+    const Real r = std::sqrt(r2);
+    s.separation -= d * ((d_star - r) / r);
+  }
+  const Real m = in ? Real(1) : Real(0);
+  s.velocity += vj * m;
+  s.position += d * m;
+  s.count += in;
+}
+
+/// \brief perceives() for a contiguous block of candidates (SoA X, Y, Z, eligibility flags),
+/// written as a branch-free loop the compiler vectorises; mask[k] = 1 if candidate k is an
+/// eligible neighbour of the boid at x with velocity v (v2 = |v|², c2 = fov_cos²). Exactly the
+/// decisions of `eligible && perceives(...)` (tested). 64-bit flags keep the vector length at 8
+/// doubles (byte flags made GCC pick 64 lanes, longer than a block). No floating-point sums happen
+/// here, so the neighbour sums that follow keep their fixed order.
+inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
+                           const Real* __restrict Z, const std::uint64_t* __restrict eligible,
+                           std::size_t n, const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                           Real fov_cos, Real c2, std::uint64_t* __restrict mask) {
+  const bool all_round = (fov_cos <= -1) | (v2 == 0);
+  const bool narrow = fov_cos >= 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Real dx = X[k] - x.x, dy = Y[k] - x.y, dz = Z[k] - x.z;
+    const Real r2 = dx * dx + dy * dy + dz * dz;
+    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
+    const bool ahead = vd >= 0, wide = vd * vd >= lim;  // cone test of perceives()
+    const bool cone = narrow ? (ahead & wide) : (ahead | (vd * vd <= lim));
+    mask[k] = static_cast<std::uint64_t>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
+                                         (all_round | cone));
+  }
+}
+
+/// \brief The accepted candidates of a block, compacted: writes base + k for every candidate k
+/// with `eligible && perceives(...)` to `out` in increasing k and returns their number. `out` needs
+/// room for n + 8 entries, `scratch` for n (used by the portable path only).
+///
+/// With AVX-512 every candidate, the tail included, goes through the same masked 8-lane code (so
+/// the decision for a candidate never depends on its position in the block, which differs between
+/// decompositions) and is compacted in a register (vpcompressq to a register: fast on AMD and
+/// Intel, unlike the store form). Without AVX-512: perceive_block() and a scalar compaction.
+inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
+                                    const std::uint64_t* eligible, std::size_t base, std::size_t n,
+                                    const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                                    Real fov_cos, Real c2, std::uint64_t* out,
+                                    std::uint64_t* scratch) {
+  std::size_t cnt = 0;
+#if defined(__AVX512F__)
+  (void)scratch;
+  const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
+  const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
+  const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
+  const __m512d cv = _mm512_set1_pd(c2 * v2);
+  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
+  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+  for (std::size_t k = 0; k < n; k += 8) {
+    const __mmask8 tm = n - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (n - k)) - 1);
+    const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
+    const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
+    const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
+    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+                                     _mm512_mul_pd(dz, dz));
+    __mmask8 m = tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) &
+                 _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ) &
+                 _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
+                                             _mm512_set1_epi64(-1));
+    if (!all_round) {
+      const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
+                                       _mm512_mul_pd(vz, dz));
+      const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
+      const __mmask8 ahead = _mm512_cmp_pd_mask(vd, zero, _CMP_GE_OQ);
+      m &= narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
+                  : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
+    }
+    const __m512i idx =
+        _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(base + k)), lanes);
+    _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
+    cnt += static_cast<std::size_t>(__builtin_popcount(m));
+  }
+#else
+  perceive_block(X, Y, Z, eligible, n, x, v, v2, radius2, fov_cos, c2, scratch);
+  for (std::size_t k = 0; k < n; ++k) {
+    out[cnt] = base + k;
+    cnt += scratch[k];
+  }
+#endif
+  return cnt;
+}
+
+/// \brief Separation acceleration w_sep Σ (x_b - x_j)(d* - r)/r (spec 2.1; units of w: 1/s²).
+inline Vec3 separation(const NeighbourSums& s, Real weight) {
+  return s.separation * weight;
+}
+
+/// \brief Alignment acceleration w_ali (v_target - v_b) (spec 2.1 rule 2; units of w: 1/s).
+inline Vec3 alignment(const NeighbourSums& s, const Vec3& v, Real weight, AlignmentMode mode) {
+  if (s.count == 0) return {};
+  const Vec3 target =
+      mode == AlignmentMode::kNearest ? s.nearest_velocity : s.velocity / Real(s.count);
+  return (target - v) * weight;
+}
+
+/// \brief Cohesion acceleration w_coh (x̄_N - x_b) towards the local centre (spec 2.1 rule 3).
+inline Vec3 cohesion(const NeighbourSums& s, Real weight) {
+  if (s.count == 0) return {};
+  return s.position * (weight / Real(s.count));
+}
+
+/// \brief Prey flee (spec 2.2): acceleration of magnitude `weight` (m/s²) straight away from the
+/// predator at offset d = x_pred - x_b, if it is closer than `radius` (radius = ∞: always).
+/// Zero at zero distance (no direction).
+inline Vec3 flee(const Vec3& d, Real radius, Real weight) {
+  const Real r2 = core::dot(d, d);
+  if (r2 >= radius * radius || r2 == 0) return {};
+  return d * (-weight / std::sqrt(r2));
+}
+
+/// \brief Predator chase (spec 2.2, erratum 12): acceleration of magnitude `weight` towards the
+/// prey at offset d = x_prey - x_pred.
+inline Vec3 chase(const Vec3& d, Real weight) {
+  const Real r2 = core::dot(d, d);
+  if (r2 == 0) return {};
+  return d * (weight / std::sqrt(r2));
+}
+
+/// \brief Soft walls: inside a layer of thickness `margin` next to a wall of the box [lo, hi],
+/// push inwards with weight·(depth/margin)² m/s² (zero at the layer's inner edge, smooth).
+/// Outside the box the push is capped at `weight`.
+inline Vec3 soft_wall(const Vec3& x, const Vec3& lo, const Vec3& hi, Real margin, Real weight) {
+  Vec3 a{};
+  for (int d = 0; d < 3; ++d) {
+    const Real below = std::min(Real(1), (lo[d] + margin - x[d]) / margin);
+    const Real above = std::min(Real(1), (x[d] - (hi[d] - margin)) / margin);
+    if (below > 0) a[d] += weight * below * below;
+    if (above > 0) a[d] -= weight * above * above;
+  }
+  return a;
+}
+
+/// \brief Reynolds' prioritised acceleration allocation (spec 2.1): add the rule accelerations in
+/// priority order (index 0 first) while the accumulated magnitude Σ|a_k| stays within `a_max`;
+/// the first rule that does not fit is scaled to use up the rest and later rules are dropped.
+/// So under pressure the high-priority rules (avoid collisions, flee) win outright instead of being
+/// averaged away.
+inline Vec3 prioritized_sum(std::span<const Vec3> rules, Real a_max) {
+  Vec3 sum{};
+  Real used = 0;
+  for (const Vec3& a : rules) {
+    const Real m = core::norm(a);
+    if (m == 0) continue;
+    if (used + m <= a_max) {
+      sum += a;
+      used += m;
+    } else {
+      sum += a * ((a_max - used) / m);
+      break;
+    }
+  }
+  return sum;
+}
+
+/// \brief Rotate `a` about the z axis by `angle` (rad): the 1/f heading fluctuation turns the
+/// direction of the acceleration vector (spec 2.6, "the direction of the acceleration vector").
+inline Vec3 rotate_z(const Vec3& a, Real angle) {
+  const Real c = std::cos(angle), s = std::sin(angle);
+  return {c * a.x - s * a.y, s * a.x + c * a.y, a.z};
+}
+
+/// \brief Semi-implicit Euler step (spec 2.1): v += a dt, clamp v_min <= |v| <= v_max, x += v dt.
+/// The lower clamp keeps flying boids moving (a boid at rest has no heading); it is applied only
+/// when |v| > 0.
+inline void integrate(Vec3& x, Vec3& v, const Vec3& a, Real dt, Real v_min, Real v_max) {
+  v += a * dt;
+  const Real s2 = core::dot(v, v);
+  if (s2 > v_max * v_max) {
+    v *= v_max / std::sqrt(s2);
+  } else if (s2 > 0 && s2 < v_min * v_min) {
+    v *= v_min / std::sqrt(s2);
+  }
+  x += v * dt;
+}
+
+/// \brief Polarisation (order parameter) φ = |Σ v_i/|v_i|| / N over boids with |v| > 0, in [0, 1];
+/// 0 if there are none. Summed in the given order (callers pass id order for reproducibility).
+double polarisation(std::span<const Vec3> velocities);
+
+}  // namespace biota::models::flock

@@ -1,0 +1,152 @@
+#pragma once
+/// \file ordered_cell_list.hpp
+/// \brief Cell list whose visiting order depends only on positions and global ids, never on the
+/// local storage order or the rank: bins are aligned to a global origin with a global edge, the
+/// (2m+1)³ bins around a query point (edge = cutoff / m, m = `reach`) are visited in a fixed
+/// (dz, dy, dx) order and each bin's points in ascending global id. m = 2 visits 15.6 cutoff³
+/// instead of 27 cutoff³ for m = 1, i.e. 1.7× fewer candidates per query. Sums over neighbours
+/// taken in this order are therefore bitwise identical on any decomposition (the design's
+/// "reductions in a fixed order", per particle).
+///
+/// Positions are also copied in bin order (SoA), so the inner loop streams contiguous memory.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace biota::particles {
+
+/// \brief See file comment. Rebuild after every move (build() reuses its allocations).
+class OrderedCellList {
+ public:
+  /// \brief Bin points [0, n) (coordinate arrays and global ids) into cubic bins of edge
+  /// cutoff / reach aligned at `origin`: bin index floor((x - origin) / edge) per axis.
+  /// for_each_near() then sees every partner within `cutoff`.
+  /// \throws std::runtime_error if the points span more than 2^26 bins (a stray particle).
+  void build(const core::Real* x, const core::Real* y, const core::Real* z,
+             const core::GlobalId* id, std::size_t n, const core::Vec3& origin, core::Real cutoff,
+             int reach = 1) {
+    n_ = n;
+    origin_ = origin;
+    reach_ = reach;
+    inv_edge_ = reach / cutoff;
+    bin_.resize(n);
+    if (n == 0) {
+      head_.assign(2, 0);
+      nb_[0] = nb_[1] = nb_[2] = 1;
+      return;
+    }
+    long long lo[3], hi[3];
+    const core::Real* c[3] = {x, y, z};
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = hi[d] = axis_bin(d, c[d][0]);
+      for (std::size_t i = 1; i < n; ++i) {
+        const long long b = axis_bin(d, c[d][i]);
+        lo[d] = std::min(lo[d], b);
+        hi[d] = std::max(hi[d], b);
+      }
+      lo_[d] = lo[d];
+      nb_[d] = hi[d] - lo[d] + 1;
+    }
+    const long long total = nb_[0] * nb_[1] * nb_[2];
+    if (total > (1LL << 26))
+      throw std::runtime_error("OrderedCellList: points span too many bins (stray particle?)");
+    head_.assign(static_cast<std::size_t>(total) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      bin_[i] = static_cast<std::size_t>(
+          flat(axis_bin(0, x[i]) - lo_[0], axis_bin(1, y[i]) - lo_[1], axis_bin(2, z[i]) - lo_[2]));
+      ++head_[bin_[i] + 1];
+    }
+    for (std::size_t b = 1; b < head_.size(); ++b) head_[b] += head_[b - 1];
+    order_.resize(n);
+    fill_.assign(head_.begin(), head_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order_[fill_[bin_[i]]++] = i;
+    // Ascending id inside each bin (bins hold a handful of points: insertion sort).
+    for (std::size_t b = 0; b + 1 < head_.size(); ++b)
+      for (std::size_t k = head_[b] + 1; k < head_[b + 1]; ++k) {
+        const std::size_t v = order_[k];
+        std::size_t m = k;
+        while (m > head_[b] && id[order_[m - 1]] > id[v]) {
+          order_[m] = order_[m - 1];
+          --m;
+        }
+        order_[m] = v;
+      }
+    sx_.resize(n), sy_.resize(n), sz_.resize(n), sid_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = order_[k];
+      sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i], sid_[k] = id[i];
+    }
+  }
+
+  /// \brief Call f(k) for every slot k (in bin order; original index = index(k)) in the (2m+1)³
+  /// bins around p, in the fixed order described in the file comment. The caller filters by
+  /// distance.
+  template <class F>
+  void for_each_near(const core::Vec3& p, F&& f) const {
+    if (n_ == 0) return;
+    const long long b0 = axis_bin(0, p.x) - lo_[0], b1 = axis_bin(1, p.y) - lo_[1],
+                    b2 = axis_bin(2, p.z) - lo_[2];
+    const long long m = reach_;
+    for (long long cz = b2 - m; cz <= b2 + m; ++cz) {
+      if (cz < 0 || cz >= nb_[2]) continue;
+      for (long long cy = b1 - m; cy <= b1 + m; ++cy) {
+        if (cy < 0 || cy >= nb_[1]) continue;
+        // The x bins of a row are contiguous: one range.
+        const long long cx0 = std::max(b0 - m, 0LL), cx1 = std::min(b0 + m, nb_[0] - 1);
+        if (cx0 > cx1) continue;
+        const std::size_t first = head_[flat(cx0, cy, cz)], last = head_[flat(cx1, cy, cz) + 1];
+        for (std::size_t k = first; k < last; ++k) f(k);
+      }
+    }
+  }
+
+  /// \brief Like for_each_near(), but calls f(first, last) once per contiguous run of slots
+  /// (one row of 2m+1 bins along x), in the same order, so the caller can process blocks.
+  template <class F>
+  void for_each_near_block(const core::Vec3& p, F&& f) const {
+    if (n_ == 0) return;
+    const long long b0 = axis_bin(0, p.x) - lo_[0], b1 = axis_bin(1, p.y) - lo_[1],
+                    b2 = axis_bin(2, p.z) - lo_[2];
+    const long long m = reach_;
+    const long long cx0 = std::max(b0 - m, 0LL), cx1 = std::min(b0 + m, nb_[0] - 1);
+    if (cx0 > cx1) return;
+    for (long long cz = std::max(b2 - m, 0LL); cz <= std::min(b2 + m, nb_[2] - 1); ++cz)
+      for (long long cy = std::max(b1 - m, 0LL); cy <= std::min(b1 + m, nb_[1] - 1); ++cy) {
+        const std::size_t first = head_[flat(cx0, cy, cz)], last = head_[flat(cx1, cy, cz) + 1];
+        if (last > first) f(first, last);
+      }
+  }
+
+  /// \brief Points binned by the last build().
+  std::size_t size() const { return n_; }
+  /// \brief Original index of slot k.
+  std::size_t index(std::size_t k) const { return order_[k]; }
+  /// \brief Positions and ids in slot order.
+  const core::Real* x() const { return sx_.data(); }
+  const core::Real* y() const { return sy_.data(); }         ///< \brief y in slot order
+  const core::Real* z() const { return sz_.data(); }         ///< \brief z in slot order
+  const core::GlobalId* ids() const { return sid_.data(); }  ///< \brief ids in slot order
+
+ private:
+  long long axis_bin(int d, core::Real v) const {
+    return static_cast<long long>(std::floor((v - origin_[d]) * inv_edge_));
+  }
+  long long flat(long long bx, long long by, long long bz) const {
+    return (bz * nb_[1] + by) * nb_[0] + bx;
+  }
+  std::size_t n_ = 0;
+  core::Vec3 origin_{};
+  core::Real inv_edge_ = 1;
+  long long reach_ = 1;
+  long long lo_[3] = {0, 0, 0}, nb_[3] = {1, 1, 1};
+  std::vector<std::size_t> head_, bin_, order_, fill_;
+  std::vector<core::Real> sx_, sy_, sz_;
+  std::vector<core::GlobalId> sid_;
+};
+
+}  // namespace biota::particles

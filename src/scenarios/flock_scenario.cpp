@@ -1,0 +1,764 @@
+#include "scenarios/flock_scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "io/checkpoint.hpp"
+#include "io/output_step.hpp"
+#include "io/particle_output.hpp"
+#include "models/flock/chaos_game.hpp"
+
+namespace biota::scenarios {
+
+namespace mf = models::flock;
+using core::Vec3;
+
+void FlockScenario::declare_config(core::ConfigSchema& s) {
+  // Domain.
+  s.add_real_list("flock.domain.size", std::vector<double>{60, 60, 40}, 3, "m",
+                  "box [0, size]; each size must be a multiple of flock.domain.dx");
+  s.add_real("flock.domain.dx", 4.0, 0.0, std::nullopt, "m",
+             "cell of the rank decomposition (ranks own whole cells; >= perception radius)", true);
+  s.add_string("flock.domain.boundary", "walls", {"walls", "periodic"},
+               "soft walls (boids pushed back inside a margin) or a periodic box");
+  s.add_real("flock.domain.wall_margin", 5.0, 0.0, std::nullopt, "m",
+             "thickness of the soft-wall layer", true);
+  s.add_real("flock.domain.wall_weight", 20.0, 0.0, std::nullopt, "m/s^2",
+             "soft-wall push at the wall (quadratic in depth)");
+  s.add_int("flock.domain.bin_reach", 1, 1, 4,
+            "neighbour bins have edge perception_radius / reach (more, smaller bins: fewer "
+            "candidates, more rows)");
+  s.add_real("flock.dt", 0.05, 0.0, std::nullopt, "s", "time step (one animation frame)", true);
+  s.add_int("flock.stats_interval", 5, 1, std::nullopt, "steps between rows of flock_order.csv");
+  // Boids (spec 2.1).
+  s.add_int("flock.prey.count", 0, 0, 100000000,
+            "number of prey; 0: L^3 (one per sandpile site, the paper's choice)");
+  s.add_real("flock.boids.perception_radius", 3.0, 0.0, std::nullopt, "m",
+             "neighbours are perceived within this radius (the ghost cutoff)", true);
+  s.add_real("flock.boids.fov_degrees", 270.0, 0.0, 360.0, "deg",
+             "field of view (full cone angle about the velocity; 360: all around)", true);
+  s.add_real("flock.boids.cruising_distance", 1.0, 0.0, std::nullopt, "m",
+             "optimal cruising distance d*: separation acts below it", true);
+  s.add_real("flock.boids.separation_weight", 10.0, 0.0, std::nullopt, "1/s^2",
+             "separation weight (priority 2, after flee)");
+  s.add_real("flock.boids.alignment_weight", 2.0, 0.0, std::nullopt, "1/s",
+             "alignment (velocity matching) weight (priority 4)");
+  s.add_real("flock.boids.cohesion_weight", 0.5, 0.0, std::nullopt, "1/s^2",
+             "cohesion (flock centring) weight (priority 5)");
+  s.add_string("flock.boids.alignment", "average", {"average", "nearest"},
+               "match the mean velocity of perceived boids (Reynolds) or the nearest one (paper)");
+  s.add_real("flock.boids.max_speed", 4.0, 0.0, std::nullopt, "m/s", "maximum speed", true);
+  s.add_real("flock.boids.min_speed", 1.0, 0.0, std::nullopt, "m/s",
+             "minimum speed of a flying boid");
+  s.add_real("flock.boids.max_accel", 20.0, 0.0, std::nullopt, "m/s^2",
+             "acceleration budget of the prioritised allocation", true);
+  // Predator and prey (spec 2.2).
+  s.add_int("flock.predator.count", 1, 0, 64, "number of predators");
+  s.add_real("flock.predator.start_time", 10.0, 0.0, std::nullopt, "s",
+             "predators wait until this time");
+  s.add_real_list("flock.predator.start", std::vector<double>{5, 5, 30}, 3, "m",
+                  "position of predator 0 (predator p starts 2 m further along x per p)");
+  s.add_real("flock.predator.max_speed", 6.0, 0.0, std::nullopt, "m/s", "predator max speed", true);
+  s.add_real("flock.predator.max_accel", 15.0, 0.0, std::nullopt, "m/s^2",
+             "predator acceleration budget", true);
+  s.add_real("flock.predator.chase_weight", 15.0, 0.0, std::nullopt, "m/s^2",
+             "pull towards the nearest prey");
+  s.add_real("flock.prey.flee_radius", 8.0, 0.0, std::nullopt, "m",
+             "prey flee a predator closer than this");
+  s.add_real("flock.prey.flee_weight", 8.0, 0.0, std::nullopt, "m/s^2",
+             "flee acceleration (priority 1)");
+  s.add_real("flock.prey.flee_boost_weight", 60.0, 0.0, std::nullopt, "m/s^2",
+             "flee acceleration of prey whose site toppled (any distance)");
+  s.add_int("flock.prey.flee_frames", 40, 0, std::nullopt,
+            "frames a prey flees with the boost after its site toppled");
+  // Sandpile coupling (spec 2.3, 2.5).
+  s.add_int("flock.sandpile.size", 10, 1, 400, "edge L of the L^3 sandpile lattice");
+  s.add_real("flock.sandpile.trigger_radius", 10.0, 0.0, std::nullopt, "m",
+             "grains are added while a predator is this close to its nearest prey");
+  s.add_int("flock.sandpile.grains_per_frame", 1, 1, 1000,
+            "grains added per frame per triggering predator");
+  s.add_int("flock.sandpile.warmup", 0, 0, std::nullopt,
+            "random drives before t = 0 (not recorded) to reach the critical state (spec 5.17)");
+  s.add_string("flock.sandpile.order", "waves", {"waves", "stack"},
+               "toppling order (waves measures durations; both give the same avalanches)");
+  // 1/f noise (spec 2.6).
+  s.add_real("flock.noise.hurst", 0.2, 0.01, 0.99, "-", "Hurst exponent of every fBm");
+  s.add_string("flock.noise.signal", "path", {"path", "increments"},
+               "heading noise from the fBm path (1/f^(2H+1)) or its increments (1/f^(2H-1))");
+  s.add_int("flock.noise.levels", 8, 1, 20, "heading noise comes in blocks of 2^levels frames");
+  s.add_real("flock.noise.heading", 0.3, 0.0, std::nullopt, "rad",
+             "RMS turn of the acceleration direction");
+  s.add_real("flock.noise.cruising_distance", 0.15, 0.0, 0.9, "-",
+             "relative RMS spread of d* (2D fBm over the take-off grid)");
+  s.add_real("flock.noise.max_speed", 0.1, 0.0, 0.9, "-",
+             "relative RMS spread of the max speed (2D fBm over the take-off grid)");
+  // Take-off (spec 2.7).
+  s.add_string("flock.takeoff.ifs", "gasket", {"gasket", "fern", "tetrahedron", "user", "uniform"},
+               "chaos game of the take-off positions (uniform: random in the box, all flying at "
+               "t = 0; for benchmarks)");
+  s.add_int("flock.takeoff.dim", 2, 2, 3, "dimension of user maps (2: 7 reals/map, 3: 13)");
+  s.add_real_list("flock.takeoff.maps", std::vector<double>{}, -1, "-",
+                  "user IFS maps: 2D 'a b c d e f p' per map, 3D A(9) T(3) p");
+  s.add_string("flock.takeoff.plane", "xy", {"xy", "xz"},
+               "plane of a 2D chaos game (xy: ground, xz: a vertical 'tree')");
+  s.add_real_list("flock.takeoff.origin", std::vector<double>{20, 20, 1}, 3, "m",
+                  "lower corner of the take-off pattern");
+  s.add_real("flock.takeoff.scale", 20.0, 0.0, std::nullopt, "m",
+             "largest extent of the take-off pattern", true);
+  s.add_real("flock.takeoff.interval", 0.005, 0.0, std::nullopt, "s",
+             "time between consecutive take-offs (in chaos-game order)");
+  s.add_real("flock.takeoff.speed", 2.0, 0.0, std::nullopt, "m/s", "launch speed");
+  s.add_real_list("flock.takeoff.direction", std::vector<double>{0, 0, 1}, 3, "-",
+                  "launch direction (a random 30% sideways part is added per boid)");
+}
+
+FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
+  const auto& c = ctx.config;
+  seed_ = static_cast<std::uint64_t>(c.get_int("seed"));
+  dt_ = c.get_real("flock.dt");
+  stats_every_ = static_cast<int>(c.get_int("flock.stats_interval"));
+  periodic_ = c.get_string("flock.domain.boundary") == "periodic";
+  const double dx = c.get_real("flock.domain.dx");
+  const auto& size = c.get_real_list("flock.domain.size");
+  core::Index3 cells;
+  for (int d = 0; d < 3; ++d) {
+    cells[d] = static_cast<int>(std::lround(size[d] / dx));
+    if (cells[d] < 1 || std::abs(cells[d] * dx - size[d]) > 1e-9 * size[d])
+      c.fail("flock.domain.size",
+             fmt::format("must be a positive multiple of flock.domain.dx = {}", dx));
+  }
+  radius_ = c.get_real("flock.boids.perception_radius");
+  if (periodic_)
+    for (int d = 0; d < 3; ++d)
+      if (size[d] < 3 * radius_)
+        c.fail("flock.domain.size",
+               "must be >= 3 perception radii on a periodic box (no double images)");
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, cells, std::array<bool, 3>{periodic_, periodic_, periodic_});
+  pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
+  lo_ = pcomm_->domain_lo();
+  hi_ = pcomm_->domain_hi();
+  wall_margin_ = c.get_real("flock.domain.wall_margin");
+  bin_reach_ = static_cast<int>(c.get_int("flock.domain.bin_reach"));
+  wall_weight_ = periodic_ ? 0.0 : c.get_real("flock.domain.wall_weight");
+
+  fov_cos_ = std::cos(c.get_real("flock.boids.fov_degrees") / 2 * std::numbers::pi / 180);
+  if (c.get_real("flock.boids.fov_degrees") >= 360) fov_cos_ = -1;
+  w_sep_ = c.get_real("flock.boids.separation_weight");
+  w_ali_ = c.get_real("flock.boids.alignment_weight");
+  w_coh_ = c.get_real("flock.boids.cohesion_weight");
+  align_mode_ = c.get_string("flock.boids.alignment") == "nearest" ? mf::AlignmentMode::kNearest
+                                                                   : mf::AlignmentMode::kAverage;
+  a_max_ = c.get_real("flock.boids.max_accel");
+  v_min_ = c.get_real("flock.boids.min_speed");
+  if (v_min_ > c.get_real("flock.boids.max_speed"))
+    c.fail("flock.boids.min_speed", "must not exceed flock.boids.max_speed");
+  flee_radius_ = c.get_real("flock.prey.flee_radius");
+  w_flee_ = c.get_real("flock.prey.flee_weight");
+  w_flee_boost_ = c.get_real("flock.prey.flee_boost_weight");
+  flee_frames_ = c.get_int("flock.prey.flee_frames");
+  n_pred_ = c.get_int("flock.predator.count");
+  pred_vmax_ = c.get_real("flock.predator.max_speed");
+  pred_amax_ = c.get_real("flock.predator.max_accel");
+  w_chase_ = c.get_real("flock.predator.chase_weight");
+  pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
+  const auto& ps = c.get_real_list("flock.predator.start");
+  pred_start_ = {ps[0], ps[1], ps[2]};
+
+  const int L = static_cast<int>(c.get_int("flock.sandpile.size"));
+  n_prey_ = c.get_int("flock.prey.count");
+  if (n_prey_ == 0) n_prey_ = 1LL * L * L * L;
+  sandpile_ = std::make_unique<mf::Sandpile>(L, L, L, seed_);
+  lattice_ = std::make_unique<grid::Decomposition>(ctx.comm, core::Index3{L, L, L},
+                                                   std::array<bool, 3>{false, false, false});
+  {
+    auto scope = ctx_.timers.scope("setup");
+    const long long warm = c.get_int("flock.sandpile.warmup");
+    for (long long k = 0; k < warm; ++k)
+      sandpile_->add_grain(sandpile_->random_site(static_cast<std::uint64_t>(k)),
+                           mf::ToppleOrder::kStack);
+  }
+  flee_until_.assign(static_cast<std::size_t>(sandpile_->num_sites()), 0);
+  trigger_radius_ = c.get_real("flock.sandpile.trigger_radius");
+  grains_per_frame_ = static_cast<int>(c.get_int("flock.sandpile.grains_per_frame"));
+  topple_order_ = c.get_string("flock.sandpile.order") == "stack" ? mf::ToppleOrder::kStack
+                                                                  : mf::ToppleOrder::kWaves;
+
+  noise_hurst_ = c.get_real("flock.noise.hurst");
+  noise_signal_ = c.get_string("flock.noise.signal") == "increments" ? mf::FbmSignal::kIncrements
+                                                                     : mf::FbmSignal::kPath;
+  noise_levels_ = static_cast<int>(c.get_int("flock.noise.levels"));
+  noise_heading_ = c.get_real("flock.noise.heading");
+
+  takeoff_interval_ = c.get_real("flock.takeoff.interval");
+  takeoff_speed_ = c.get_real("flock.takeoff.speed");
+  const auto& td = c.get_real_list("flock.takeoff.direction");
+  takeoff_dir_ = {td[0], td[1], td[2]};
+  if (core::norm(takeoff_dir_) == 0) c.fail("flock.takeoff.direction", "must not be zero");
+  takeoff_dir_ = takeoff_dir_ / core::norm(takeoff_dir_);
+
+  particles::ParticleLayout layout;
+  a_vel_ = layout.add_real("velocity", 3, true, true);
+  a_dstar_ = layout.add_real("cruising_distance", 1, true, false);
+  a_vmax_ = layout.add_real("max_speed", 1, true, false);
+  set_ = std::make_unique<particles::ParticleSet>(layout);
+  {
+    auto scope = ctx_.timers.scope("setup");
+    place_boids();
+    pcomm_->redistribute(*set_);
+    begin_step();
+  }
+  if (decomp_->rank() == 0) {
+    fmt::print(
+        "flock: {} prey, {} predators, sandpile {}^3, box {} x {} x {} m ({}), ranks {} x {} x "
+        "{}\n",
+        n_prey_, n_pred_, L, size[0], size[1], size[2], periodic_ ? "periodic" : "soft walls",
+        decomp_->dims()[0], decomp_->dims()[1], decomp_->dims()[2]);
+  }
+}
+
+void FlockScenario::place_boids() {
+  const auto& c = ctx_.config;
+  const std::string ifs = c.get_string("flock.takeoff.ifs");
+  const int me = decomp_->rank();
+  // Per-boid parameters: d* and v_max from 2D fBm fields over the take-off grid (spec 2.6).
+  const double eps_d = c.get_real("flock.noise.cruising_distance");
+  const double eps_v = c.get_real("flock.noise.max_speed");
+  const double d0 = c.get_real("flock.boids.cruising_distance");
+  const double v0 = c.get_real("flock.boids.max_speed");
+  int levels = 0;
+  while ((1LL << levels) + 1 < static_cast<long long>(std::ceil(std::sqrt(double(n_prey_)))))
+    ++levels;
+  const long long G = (1LL << levels) + 1;
+  std::vector<double> fd, fv;
+  if (eps_d > 0) fd = mf::normalized_fbm_field(levels, noise_hurst_, seed_, 1);
+  if (eps_v > 0) fv = mf::normalized_fbm_field(levels, noise_hurst_, seed_, 2);
+  auto param = [&](const std::vector<double>& f, double base, double eps, long long k) {
+    if (f.empty()) return base;
+    const long long gi = k % G, gj = k / G;
+    return base * std::max(0.1, 1 + eps * f[static_cast<std::size_t>(gi + G * gj)]);
+  };
+
+  std::vector<Vec3> pts;
+  if (ifs == "uniform") {
+    pts.resize(static_cast<std::size_t>(n_prey_));
+    for (long long k = 0; k < n_prey_; ++k) {
+      core::Rng r(seed_, static_cast<std::uint64_t>(k), 0, core::RngPurpose::kBoidInit);
+      pts[k] = {r.uniform(lo_.x, hi_.x), r.uniform(lo_.y, hi_.y), r.uniform(lo_.z, hi_.z)};
+    }
+    takeoff_interval_ = 0;
+  } else {
+    std::unique_ptr<mf::ChaosGame> game;
+    if (ifs == "gasket") game = std::make_unique<mf::ChaosGame>(mf::ChaosGame::sierpinski_gasket());
+    if (ifs == "fern") game = std::make_unique<mf::ChaosGame>(mf::ChaosGame::barnsley_fern());
+    if (ifs == "tetrahedron")
+      game = std::make_unique<mf::ChaosGame>(mf::ChaosGame::sierpinski_tetrahedron());
+    if (ifs == "user") {
+      const auto& maps = c.get_real_list("flock.takeoff.maps");
+      try {
+        game = std::make_unique<mf::ChaosGame>(
+            mf::ChaosGame::from_flat(static_cast<int>(c.get_int("flock.takeoff.dim")), maps));
+      } catch (const std::invalid_argument& e) {
+        c.fail("flock.takeoff.maps", e.what());
+      }
+    }
+    // The orbit is a serial chain: every rank builds the same one (spec 2.7, take-off order =
+    // generation order = prey id).
+    auto orbit = game->generate(static_cast<std::size_t>(n_prey_), seed_, 0);
+    Vec3 mn = orbit[0], mx = orbit[0];
+    for (const auto& p : orbit)
+      for (int d = 0; d < 3; ++d) mn[d] = std::min(mn[d], p[d]), mx[d] = std::max(mx[d], p[d]);
+    double ext = 0;
+    for (int d = 0; d < 3; ++d) ext = std::max(ext, mx[d] - mn[d]);
+    if (ext == 0) ext = 1;
+    const double scale = c.get_real("flock.takeoff.scale") / ext;
+    const auto& o = c.get_real_list("flock.takeoff.origin");
+    const bool xz = c.get_string("flock.takeoff.plane") == "xz";
+    pts.resize(orbit.size());
+    for (std::size_t k = 0; k < orbit.size(); ++k) {
+      const Vec3 u = (orbit[k] - mn) * scale;
+      if (game->dim() == 3)
+        pts[k] = {o[0] + u.x, o[1] + u.y, o[2] + u.z};
+      else
+        pts[k] = xz ? Vec3{o[0] + u.x, o[1], o[2] + u.y} : Vec3{o[0] + u.x, o[1] + u.y, o[2]};
+    }
+  }
+  for (long long k = 0; k < n_prey_ + n_pred_; ++k) {
+    const bool prey = k < n_prey_;
+    const Vec3 p = prey ? pts[k] : pred_start_ + Vec3{2.0 * double(k - n_prey_), 0, 0};
+    if (pcomm_->owner_of(p) != me) continue;
+    const std::size_t i = set_->add_owned(static_cast<core::GlobalId>(k), p);
+    set_->real(a_dstar_)[i] = prey ? param(fd, d0, eps_d, k) : d0;
+    set_->real(a_vmax_)[i] = prey ? param(fv, v0, eps_v, k) : pred_vmax_;
+    if (prey && ifs == "uniform") {  // all flying at t = 0 with random headings
+      core::Rng r(seed_, static_cast<std::uint64_t>(k), 1, core::RngPurpose::kBoidInit);
+      const double z = r.uniform(-1, 1), phi = r.uniform(0, 2 * std::numbers::pi);
+      const double sn = std::sqrt(1 - z * z), sp = 0.5 * (v_min_ + set_->real(a_vmax_)[i]);
+      set_->set_vec3(a_vel_, i, Vec3{sn * std::cos(phi), sn * std::sin(phi), z} * sp);
+    }
+  }
+}
+
+bool FlockScenario::flying(core::GlobalId id) const {
+  if (!is_prey(id)) return step_ >= pred_start_step_;
+  return static_cast<double>(id) * takeoff_interval_ <= (static_cast<double>(step_) + 0.5) * dt_;
+}
+
+Vec3 FlockScenario::min_image(Vec3 d) const {
+  if (!periodic_) return d;
+  for (int k = 0; k < 3; ++k) {
+    const double L = hi_[k] - lo_[k];
+    d[k] -= L * std::round(d[k] / L);
+  }
+  return d;
+}
+
+void FlockScenario::begin_step() {
+  pcomm_->migrate(*set_);
+  if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
+    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+                 set_->real(particles::ParticleSet::kPos, 1),
+                 set_->real(particles::ParticleSet::kPos, 2),
+                 set_->u64(particles::ParticleSet::kId), set_->n_owned(), lo_, radius_, bin_reach_);
+    std::vector<std::size_t> order(set_->n_owned());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = cells_.index(k);
+    set_->reorder_owned(order);
+  }
+  pcomm_->build_ghosts(*set_, radius_);
+  const std::size_t n = set_->n_total();
+  cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+               set_->real(particles::ParticleSet::kPos, 1),
+               set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
+               n, lo_, radius_, bin_reach_);
+  svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
+  const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
+               *vz = set_->real(a_vel_, 2);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = cells_.index(k);
+    svx_[k] = vx[i], svy_[k] = vy[i], svz_[k] = vz[i];
+    const core::GlobalId id = cells_.ids()[k];
+    eligible_[k] = is_prey(id) && flying(id);
+  }
+}
+
+std::vector<FlockScenario::Predator> FlockScenario::gather_predators() const {
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+    if (is_prey(set_->id(i))) continue;
+    const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
+    mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z, v.x, v.y, v.z});
+  }
+  const int P = decomp_->size();
+  int cnt = static_cast<int>(mine.size());
+  std::vector<int> counts(P), displs(P);
+  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
+  int total = 0;
+  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
+  std::vector<double> all(total);
+  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 ctx_.comm);
+  std::vector<Predator> out;
+  for (int k = 0; k + 7 <= total; k += 7)
+    out.push_back({std::bit_cast<core::GlobalId>(all[k]),
+                   {all[k + 1], all[k + 2], all[k + 3]},
+                   {all[k + 4], all[k + 5], all[k + 6]}});
+  std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.id < b.id; });
+  return out;
+}
+
+std::vector<FlockScenario::NearestPrey> FlockScenario::nearest_prey(
+    const std::vector<Predator>& preds) const {
+  // Local candidates, then an all-gather and the same (distance, id) choice on every rank.
+  const std::size_t np = preds.size();
+  std::vector<double> mine(np * 5);
+  for (std::size_t p = 0; p < np; ++p) {
+    NearestPrey best{std::numeric_limits<double>::infinity(), kNone, {}};
+    for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+      const core::GlobalId id = set_->id(i);
+      if (!is_prey(id) || !flying(id)) continue;
+      const Vec3 d = min_image(set_->pos(i) - preds[p].x);
+      const double d2 = core::dot(d, d);
+      if (d2 < best.d2 || (d2 == best.d2 && id < best.id)) best = {d2, id, set_->pos(i)};
+    }
+    double* m = mine.data() + 5 * p;
+    m[0] = best.d2, m[1] = std::bit_cast<double>(best.id), m[2] = best.x.x, m[3] = best.x.y,
+    m[4] = best.x.z;
+  }
+  const int P = decomp_->size();
+  std::vector<double> all(mine.size() * P);
+  MPI_Allgather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
+                static_cast<int>(mine.size()), MPI_DOUBLE, ctx_.comm);
+  std::vector<NearestPrey> out(np, {std::numeric_limits<double>::infinity(), kNone, {}});
+  for (int r = 0; r < P; ++r)
+    for (std::size_t p = 0; p < np; ++p) {
+      const double* m = all.data() + (static_cast<std::size_t>(r) * np + p) * 5;
+      const core::GlobalId id = std::bit_cast<core::GlobalId>(m[1]);
+      if (id == kNone) continue;
+      if (m[0] < out[p].d2 || (m[0] == out[p].d2 && id < out[p].id))
+        out[p] = {m[0], id, {m[2], m[3], m[4]}};
+    }
+  return out;
+}
+
+void FlockScenario::drive_sandpile(const std::vector<Predator>& preds,
+                                   const std::vector<NearestPrey>& near) {
+  // Replicated: every rank runs exactly this, in predator-id order, so every lattice is identical.
+  const bool root = decomp_->rank() == 0;
+  for (std::size_t p = 0; p < preds.size(); ++p) {
+    if (step_ < pred_start_step_ || near[p].id == kNone) continue;
+    if (near[p].d2 >= trigger_radius_ * trigger_radius_) continue;
+    const std::int64_t site =
+        static_cast<std::int64_t>(near[p].id % static_cast<core::GlobalId>(flee_until_.size()));
+    for (int g = 0; g < grains_per_frame_; ++g) {
+      const mf::Avalanche a = sandpile_->add_grain(site, topple_order_);
+      for (std::int64_t s : sandpile_->last_toppled_sites()) flee_until_[s] = step_ + flee_frames_;
+      ++avalanches_;
+      if (root && aval_csv_.is_open())
+        aval_csv_ << fmt::format("{},{:.6f},{},{},{},{},{},{},{}\n", step_, time(), preds[p].id,
+                                 near[p].id, site, a.size, a.area, a.duration, a.lost);
+    }
+  }
+}
+
+double FlockScenario::heading_angle(core::GlobalId id) {
+  if (noise_heading_ == 0) return 0;
+  const std::uint64_t n = std::uint64_t{1} << noise_levels_;
+  const std::uint64_t block = static_cast<std::uint64_t>(step_) / n;
+  auto& e = noise_cache_[id];
+  if (e.second.empty() || e.first != block) {
+    e.first = block;
+    e.second = mf::heading_noise_block(noise_levels_, noise_hurst_, noise_signal_, seed_, id,
+                                       block % (1u << 20));
+  }
+  return noise_heading_ * e.second[static_cast<std::uint64_t>(step_) % n];
+}
+
+void FlockScenario::step() {
+  if (!order_csv_.is_open() && decomp_->rank() == 0) open_csv(false);
+  std::vector<Predator> preds;
+  std::vector<NearestPrey> near;
+  {
+    auto scope = ctx_.timers.scope("predators");
+    if (n_pred_ > 0) {  // two collectives per step, skipped when there is nothing to find
+      preds = gather_predators();
+      near = nearest_prey(preds);
+    }
+  }
+  {
+    auto scope = ctx_.timers.scope("sandpile");
+    drive_sandpile(preds, near);
+  }
+  if (step_ % stats_every_ == 0) {
+    auto scope = ctx_.timers.scope("stats");
+    record_order(near);
+  }
+  {
+    auto scope = ctx_.timers.scope("rules");
+    const std::size_t no = set_->n_owned();
+    std::vector<Vec3> acc(no);
+    std::vector<char> launch(no, 0);
+    const double R2 = radius_ * radius_;
+    const double* X = cells_.x();
+    const double* Y = cells_.y();
+    const double* Z = cells_.z();
+    const core::GlobalId* ids = cells_.ids();
+    for (std::size_t k = 0; k < cells_.size(); ++k) {
+      const std::size_t i = cells_.index(k);
+      if (i >= no) continue;
+      const core::GlobalId id = ids[k];
+      if (!flying(id)) continue;
+      const Vec3 x{X[k], Y[k], Z[k]}, v{svx_[k], svy_[k], svz_[k]};
+      if (core::dot(v, v) == 0) {  // first flying frame: launch (chaos-game order, spec 2.7)
+        launch[i] = 1;
+        continue;
+      }
+      if (!is_prey(id)) {  // predator: chase the nearest prey, stay inside
+        Vec3 chase{};
+        for (std::size_t p = 0; p < preds.size(); ++p)
+          if (preds[p].id == id && near[p].id != kNone)
+            chase = mf::chase(min_image(near[p].x - x), w_chase_);
+        const Vec3 rules[2] = {mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_), chase};
+        acc[i] = mf::prioritized_sum(rules, pred_amax_);
+        continue;
+      }
+      const double dstar = set_->real(a_dstar_)[i];
+      mf::NeighbourSums s;
+      if (align_mode_ == mf::AlignmentMode::kAverage) {
+        // Blocks: a vectorised perception mask compacted to the accepted slots, then the sums over
+        // the accepted neighbours in visit order (the order that makes them
+        // decomposition-invariant).
+        const double v2 = core::dot(v, v), c2 = fov_cos_ * fov_cos_;
+        std::size_t cnt = 0;
+        cells_.for_each_near_block(x, [&](std::size_t first, std::size_t last) {
+          const std::size_t n = last - first;
+          if (mask_.size() < n) mask_.resize(2 * n);
+          if (accepted_.size() < cnt + n + 8) accepted_.resize(2 * (cnt + n + 8));
+          cnt += mf::perceive_compact(X + first, Y + first, Z + first, eligible_.data() + first,
+                                      first, n, x, v, v2, R2, fov_cos_, c2, accepted_.data() + cnt,
+                                      mask_.data());
+        });
+        for (std::size_t a = 0; a < cnt; ++a) {
+          const std::size_t j = accepted_[a];
+          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+          mf::accumulate_neighbour(s, d, core::dot(d, d), {svx_[j], svy_[j], svz_[j]}, ids[j],
+                                   dstar);
+        }
+      } else {
+        cells_.for_each_near(x, [&](std::size_t j) {
+          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+          const double r2 = core::dot(d, d);
+          if (r2 >= R2 || !eligible_[j]) return;
+          if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
+          mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
+        });
+      }
+      neighbour_sum_ += s.count;
+      ++prey_updates_;
+      // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
+      Vec3 flee{};
+      if (step_ >= pred_start_step_ && !preds.empty()) {
+        double best = std::numeric_limits<double>::infinity();
+        Vec3 dp{};
+        for (const auto& p : preds) {
+          const Vec3 d = min_image(p.x - x);
+          if (core::dot(d, d) < best) best = core::dot(d, d), dp = d;
+        }
+        flee = fleeing(id) ? mf::flee(dp, std::numeric_limits<double>::infinity(), w_flee_boost_)
+                           : mf::flee(dp, flee_radius_, w_flee_);
+      }
+      const Vec3 rules[5] = {flee, mf::separation(s, w_sep_),
+                             mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_),
+                             mf::alignment(s, v, w_ali_, align_mode_), mf::cohesion(s, w_coh_)};
+      const double amax = fleeing(id) ? std::max(a_max_, w_flee_boost_) : a_max_;
+      acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), heading_angle(id));
+    }
+    for (std::size_t i = 0; i < no; ++i) {
+      const core::GlobalId id = set_->id(i);
+      if (!flying(id)) continue;
+      Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
+      const double vmax = set_->real(a_vmax_)[i];
+      if (launch[i]) {
+        core::Rng r(seed_, id, 2, core::RngPurpose::kBoidInit);
+        const Vec3 side{r.uniform(-0.3, 0.3), r.uniform(-0.3, 0.3), r.uniform(-0.3, 0.3)};
+        if (is_prey(id)) {
+          v = (takeoff_dir_ + side) * takeoff_speed_;
+        } else {  // a predator sets off towards the centre of the box
+          const Vec3 to = (lo_ + hi_) * 0.5 - x;
+          v = core::norm(to) > 0 ? to * (0.5 * vmax / core::norm(to)) : Vec3{0.5 * vmax, 0, 0};
+        }
+        x += v * dt_;
+      } else {
+        mf::integrate(x, v, acc[i], dt_, is_prey(id) ? v_min_ : 0.0, vmax);
+      }
+      set_->set_pos(i, x);
+      set_->set_vec3(a_vel_, i, v);
+    }
+  }
+  ++step_;
+  {
+    auto scope = ctx_.timers.scope("comm");
+    begin_step();
+  }
+  // Drop noise blocks of boids that left this rank (bounded memory).
+  if (noise_heading_ > 0 && step_ % (1LL << noise_levels_) == 0) {
+    std::unordered_map<core::GlobalId, std::pair<std::uint64_t, std::vector<double>>> keep;
+    for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+      auto it = noise_cache_.find(set_->id(i));
+      if (it != noise_cache_.end()) keep.emplace(it->first, std::move(it->second));
+    }
+    noise_cache_.swap(keep);
+  }
+}
+
+void FlockScenario::record_order(const std::vector<NearestPrey>& near) {
+  // Sum of unit velocities of flying prey; an Allreduce, so the CSV (diagnostics only, it does
+  // not feed back) can differ in the last bits between rank counts.
+  double loc[5] = {0, 0, 0, 0, 0};
+  for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+    const core::GlobalId id = set_->id(i);
+    if (!is_prey(id) || !flying(id)) continue;
+    const Vec3 v = set_->vec3(a_vel_, i);
+    const double s = core::norm(v);
+    if (s > 0) loc[0] += v.x / s, loc[1] += v.y / s, loc[2] += v.z / s;
+    loc[3] += 1;
+    loc[4] += fleeing(id) ? 1 : 0;
+  }
+  double glob[5];
+  MPI_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, ctx_.comm);
+  last_flying_ = std::llround(glob[3]);
+  last_fleeing_ = std::llround(glob[4]);
+  last_phi_ = glob[3] > 0
+                  ? std::sqrt(glob[0] * glob[0] + glob[1] * glob[1] + glob[2] * glob[2]) / glob[3]
+                  : 0.0;
+  if (decomp_->rank() == 0 && order_csv_.is_open()) {
+    const double dnear = near.empty() || near[0].id == kNone ? -1.0 : std::sqrt(near[0].d2);
+    order_csv_ << fmt::format("{},{:.6f},{},{},{:.8f},{:.6f},{},{},{}\n", step_, time(),
+                              last_flying_, last_fleeing_, last_phi_, dnear,
+                              sandpile_->grains_added(), sandpile_->topplings(), avalanches_)
+               << std::flush;
+    aval_csv_ << std::flush;
+  }
+}
+
+void FlockScenario::open_csv(bool append) {
+  std::filesystem::create_directories(ctx_.output_dir);
+  const auto mode = append ? std::ios::app : std::ios::trunc;
+  order_csv_.open(ctx_.output_dir + "/flock_order.csv", std::ios::out | mode);
+  aval_csv_.open(ctx_.output_dir + "/flock_avalanches.csv", std::ios::out | mode);
+  if (!append) {
+    order_csv_ << "step,time,flying,fleeing,polarisation,predator_distance,grains_added,"
+                  "topplings,avalanches\n";
+    aval_csv_ << "step,time,predator,prey,site,size,area,duration,lost\n";
+  }
+}
+
+std::vector<BoidRecord> FlockScenario::gather_boids() const {
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+    const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
+    mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z, v.x, v.y, v.z});
+  }
+  const int P = decomp_->size();
+  int cnt = static_cast<int>(mine.size());
+  std::vector<int> counts(P), displs(P);
+  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
+  int total = 0;
+  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
+  std::vector<double> all(total);
+  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 ctx_.comm);
+  std::vector<BoidRecord> out;
+  for (int k = 0; k + 7 <= total; k += 7)
+    out.push_back({std::bit_cast<core::GlobalId>(all[k]),
+                   {all[k + 1], all[k + 2], all[k + 3]},
+                   {all[k + 4], all[k + 5], all[k + 6]}});
+  std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.id < b.id; });
+  return out;
+}
+
+void FlockScenario::write_output() {
+  auto scope = ctx_.timers.scope("output");
+  io::ParticleData d;
+  const std::size_t no = set_->n_owned();
+  d.owned = no;
+  std::vector<double> state, flee, kind, speed, vel;
+  for (std::size_t i = 0; i < no; ++i) {
+    const core::GlobalId id = set_->id(i);
+    const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
+    d.positions.insert(d.positions.end(), {x.x, x.y, x.z});
+    d.ids.push_back(id);
+    // state: 0 grounded, 1 flying, 2 fleeing (site toppled), 3 predator.
+    state.push_back(!is_prey(id) ? 3.0 : !flying(id) ? 0.0 : fleeing(id) ? 2.0 : 1.0);
+    flee.push_back(fleeing(id) ? 1.0 : 0.0);
+    kind.push_back(is_prey(id) ? 0.0 : 1.0);
+    speed.push_back(core::norm(v));
+    vel.insert(vel.end(), {v.x, v.y, v.z});
+  }
+  d.scalars = {{"state", std::move(state)},
+               {"fleeing", std::move(flee)},
+               {"predator", std::move(kind)},
+               {"speed", std::move(speed)}};
+  d.vectors = {{"velocity", std::move(vel)}};
+  io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "flock_boids", step_, time(),
+                         ctx_.config.effective_toml());
+  out.write(d);
+  // Sandpile lattice (replicated) written through its own L^3 decomposition, one unit per site.
+  const auto& b = lattice_->local_box();
+  std::vector<double> h, left;
+  for (int z = b.lo.z; z < b.hi.z; ++z)
+    for (int y = b.lo.y; y < b.hi.y; ++y)
+      for (int x = b.lo.x; x < b.hi.x; ++x) {
+        const std::int64_t s = sandpile_->site(x, y, z);
+        h.push_back(sandpile_->height(s));
+        left.push_back(static_cast<double>(std::max(0LL, flee_until_[s] - step_)));
+      }
+  io::OutputStep lat(*lattice_, ctx_.output_dir, "flock_sandpile", step_, time(), 1.0, {0, 0, 0},
+                     ctx_.config.effective_toml(), "lattice units: one site per prey");
+  lat.add_scalar("height", std::move(h), "grains");
+  lat.add_scalar("flee_frames_left", std::move(left), "frames");
+  lat.write();
+}
+
+void FlockScenario::write_checkpoint(const std::string& path) {
+  auto scope = ctx_.timers.scope("checkpoint");
+  io::CheckpointWriter w(*decomp_, path);
+  w.write_attribute("scenario", std::string("flock"));
+  w.write_attribute("config", ctx_.config.effective_toml());
+  w.write_attribute("flock_step", static_cast<std::int64_t>(step_));
+  w.write_attribute("flock_avalanches", static_cast<std::int64_t>(avalanches_));
+  const int width = set_->pack_width(false);
+  std::vector<double> rows;
+  for (std::size_t i = 0; i < set_->n_owned(); ++i) set_->pack(i, false, rows);
+  w.write_rows("flock_boids", rows, width);
+  // Replicated sandpile: heights, counters and flee timers (exact in doubles: all < 2^53).
+  const auto st = sandpile_->state();
+  w.write_replicated("sandpile_heights", std::vector<double>(st.heights.begin(), st.heights.end()));
+  w.write_replicated("sandpile_counters",
+                     {double(st.initial_grains), double(st.grains_added), double(st.grains_lost),
+                      double(st.topplings), double(st.relaxations)});
+  w.write_replicated("flee_until", std::vector<double>(flee_until_.begin(), flee_until_.end()));
+  w.commit();
+}
+
+void FlockScenario::read_checkpoint(const std::string& path) {
+  io::CheckpointReader r(*decomp_, path);
+  step_ = r.read_attribute_int("flock_step");
+  avalanches_ = r.read_attribute_int("flock_avalanches");
+  int width = 0;
+  auto rows = r.read_all_rows("flock_boids", width);
+  if (width != set_->pack_width(false))
+    throw core::InputError(path + ": checkpoint boid layout differs");
+  set_->resize(0, 0);
+  const std::size_t n = rows.size() / width;
+  if (static_cast<long long>(n) != n_prey_ + n_pred_)
+    throw core::InputError(path + ": checkpoint has a different number of boids than the deck");
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* row = rows.data() + k * width;
+    if (pcomm_->owner_of({row[0], row[1], row[2]}) != decomp_->rank()) continue;
+    const std::size_t i = set_->n_owned();
+    set_->resize(i + 1, i + 1);
+    set_->unpack(i, false, row);
+  }
+  mf::SandpileState st;
+  const auto h = r.read_replicated("sandpile_heights");
+  st.heights.assign(h.begin(), h.end());
+  const auto cnt = r.read_replicated("sandpile_counters");
+  st.initial_grains = std::llround(cnt.at(0)), st.grains_added = std::llround(cnt.at(1));
+  st.grains_lost = std::llround(cnt.at(2)), st.topplings = std::llround(cnt.at(3));
+  st.relaxations = std::llround(cnt.at(4));
+  sandpile_->restore(st);
+  const auto fu = r.read_replicated("flee_until");
+  if (fu.size() != flee_until_.size()) throw core::InputError(path + ": sandpile size differs");
+  for (std::size_t s = 0; s < fu.size(); ++s) flee_until_[s] = std::llround(fu[s]);
+  noise_cache_.clear();
+  begin_step();
+  if (decomp_->rank() == 0) open_csv(true);
+}
+
+void FlockScenario::check_health() {
+  for (std::size_t i = 0; i < set_->n_owned(); ++i) {
+    const Vec3 p = set_->pos(i), v = set_->vec3(a_vel_, i);
+    if (!std::isfinite(p.x + p.y + p.z + v.x + v.y + v.z))
+      throw core::UnstableError(
+          fmt::format("flock: boid {} non-finite at step {}", set_->id(i), step_));
+  }
+}
+
+std::string FlockScenario::progress() {
+  return fmt::format("flying {} fleeing {} phi {:.3f} avalanches {} topplings {}", last_flying_,
+                     last_fleeing_, last_phi_, avalanches_, sandpile_->topplings());
+}
+
+std::vector<std::string> FlockScenario::timer_sections() const {
+  return {"setup", "predators", "sandpile", "rules", "comm", "stats", "output", "checkpoint"};
+}
+
+}  // namespace biota::scenarios
