@@ -144,6 +144,7 @@ void SeaweedScenario::step() {
   if (!csv_started_) open_csv();
   auto& set = bodies_->set();
   const auto& units = lbm_->units();
+  check_spheres_finite();  // before migrate, which cannot place a NaN
   {
     auto scope = ctx_.timers.scope("particles");
     bodies_->begin_step();  // migrate + ghosts + lists when the skin is used up, else refresh
@@ -153,11 +154,6 @@ void SeaweedScenario::step() {
     const double to_si = units.velocity_to_si(1.0);
     for (std::size_t i = 0; i < set.n_owned(); ++i) {
       const Vec3 x = set.pos(i);
-      if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
-        throw core::UnstableError(fmt::format(
-            "seaweed: sphere {} non-finite at step {} (typical cause: plants grown through the "
-            "tank walls, see the start-up warning; docs/seaweed.md)",
-            set.id(i), step_));
       set.set_vec3(bodies_->a_xs, i, x);
       set.set_vec3(bodies_->a_uf, i,
                    coupling_->interpolate(lbm_->velocity(), coupling_->stencil(x)) * to_si);
@@ -317,15 +313,27 @@ long long SeaweedScenario::last_broken_total() {
   return b;
 }
 
-void SeaweedScenario::check_health() {
-  lbm_->check_health();
-  auto& s = bodies_->set();
+void SeaweedScenario::check_spheres_finite() {
+  // Collective, so every rank throws together (a throw on one rank alone would leave the others
+  // waiting in the next collective).
+  const auto& s = bodies_->set();
+  std::uint64_t bad = ~std::uint64_t{0};
   for (std::size_t i = 0; i < s.n_owned(); ++i) {
     const Vec3 p = s.pos(i);
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw core::UnstableError(
-          fmt::format("seaweed: sphere {} non-finite at step {}", s.id(i), step_));
+      bad = std::min(bad, s.id(i));
   }
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_UINT64_T, MPI_MIN, ctx_.comm);
+  if (bad != ~std::uint64_t{0})
+    throw core::UnstableError(fmt::format(
+        "seaweed: sphere {} non-finite at step {} (typical causes: plants grown through the tank "
+        "walls, see the start-up warning; two-way coupling of a dense lump; docs/seaweed.md)",
+        bad, step_));
+}
+
+void SeaweedScenario::check_health() {
+  lbm_->check_health();
+  check_spheres_finite();
 }
 
 std::string SeaweedScenario::progress() {

@@ -42,6 +42,7 @@ class SeaweedScenario : public Scenario {
   void write_particles();
   void record_metrics();
   void open_csv();
+  void check_spheres_finite();
   long long last_broken_total();
 
   RunContext ctx_;
