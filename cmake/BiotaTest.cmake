@@ -14,7 +14,7 @@ function(biota_add_test)
                        ${BIOTA_MPIEXEC_EXTRA} $<TARGET_FILE:${T_NAME}>)
       set_tests_properties(${T_NAME}_np${np} PROPERTIES PROCESSORS ${np}
         LABELS "mpi;${T_LABELS}" ENVIRONMENT
-        "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1"
+        "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_mpi_yield_when_idle=1"
         TIMEOUT 600)
     endforeach()
   else()
