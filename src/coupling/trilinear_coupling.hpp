@@ -32,7 +32,8 @@ class TrilinearCoupling {
   TrilinearCoupling(const grid::Decomposition& decomp, Real dx, Vec3 origin = {})
       : decomp_(decomp), dx_(dx), origin_(origin) {}
 
-  /// \brief Stencil of a particle at physical position p (p must lie in this rank's box).
+  /// \brief Stencil of a particle at physical position p (p must lie in this rank's box, or
+  /// within one cell of it when used with spread_owned()).
   Stencil stencil(const Vec3& p) const {
     Stencil s;
     int lo[3];
@@ -73,6 +74,21 @@ class TrilinearCoupling {
           const Real w = s.w[a][b][c];
           if (w == 0) continue;
           for (int d = 0; d < 3; ++d) field(s.i + a, s.j + b, s.k + c, d) += w * value[d];
+        }
+  }
+  /// \brief Like spread() but only into this rank's owned cells (weights landing in ghost cells
+  /// are dropped). Used when every rank spreads all particles, owned and ghost, whose stencil
+  /// touches its cells, in a fixed particle order: each cell's sum is then formed in the same
+  /// order on any rank count, without a reverse halo sum (bitwise decomposition invariance).
+  void spread_owned(grid::Field<Real>& field, const Stencil& s, const Vec3& value) const {
+    const auto n = decomp_.local_cells();
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const Real w = s.w[a][b][c];
+          const int i = s.i + a, j = s.j + b, k = s.k + c;
+          if (w == 0 || i < 0 || j < 0 || k < 0 || i >= n.x || j >= n.y || k >= n.z) continue;
+          for (int d = 0; d < 3; ++d) field(i, j, k, d) += w * value[d];
         }
   }
   Real dx() const { return dx_; }

@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 #include "core/error.hpp"
@@ -42,7 +45,6 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   lbm_->enable_force_field();
-  force_halo_ = std::make_unique<grid::HaloExchange>(*decomp_, lbm_->force());
   const double dx = lbm_->units().dx();
   dt_ = cfg.get_real("seaweed.physics_dt");
   lbm_substeps_ = std::max(1, static_cast<int>(std::lround(dt_ / lbm_->units().dt())));
@@ -75,42 +77,86 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     bodies_->build(pop, n_plants_);
   }
   const long long n = bodies_->global_count();
+  {  // Plants grown beyond the tank start inside the wall springs: warn (they are pushed back
+     // hard).
+    const auto& st = bodies_->set();
+    long long outside = 0;
+    for (std::size_t i = 0; i < st.n_owned(); ++i)
+      for (int d = 0; d < 3; ++d)
+        outside += st.pos(i)[d] < mpar.radius || st.pos(i)[d] > L[d] - mpar.radius ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_LONG_LONG, MPI_SUM, ctx.comm);
+    if (outside > 0 && decomp_->rank() == 0)
+      fmt::print(
+          "seaweed: WARNING: {} sphere coordinates start outside the tank (less than one "
+          "radius from a wall); move the placement box or use a larger tank\n",
+          outside);
+  }
+  if (bodies_->ghost_cutoff() < dx)
+    throw core::InputError(
+        "seaweed: particle ghost cutoff below one lattice cell; spreading "
+        "needs every sphere within one cell of a rank's box as a ghost");
   if (decomp_->rank() == 0) {
-    std::filesystem::create_directories(ctx.output_dir);
-    csv_.open(ctx.output_dir + "/seaweed_clusters.csv");
-    csv_ << "time,clusters,largest,largest_share,contacts,broken_joints,joints\n";
     fmt::print(
         "seaweed: {} plants, {} spheres, growth cycles {}, {} LBM steps per physics step, "
         "omega_max*dt_sub = {:.2f}, coupling {}\n",
         n_plants_, n, gp.cycles, lbm_substeps_, wdt, two_way_ ? "two-way" : "one-way");
   }
   bodies_->begin_step();
-  record_metrics();
+  last_ = bodies_->clusters();
+}
+
+void SeaweedScenario::open_csv() {
+  // Fresh run: new file with the t = 0 row. Restart: keep the rows up to the restart time and
+  // append (no spurious t = 0 row; rows of the abandoned future are dropped).
+  csv_started_ = true;
+  if (decomp_->rank() != 0) {
+    if (step_ == 0) record_metrics();
+    return;
+  }
+  const std::string path = ctx_.output_dir + "/seaweed_clusters.csv";
+  const std::string header = "time,clusters,largest,largest_share,contacts,broken_joints,joints";
+  std::vector<std::string> keep;
+  if (step_ > 0) {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line == header) continue;
+      if (std::stod(line.substr(0, line.find(','))) <= time() + 0.5 * dt_) keep.push_back(line);
+    }
+  }
+  std::filesystem::create_directories(ctx_.output_dir);
+  csv_.open(path, std::ios::trunc);
+  csv_ << header << "\n";
+  for (const auto& l : keep) csv_ << l << "\n";
+  csv_ << std::flush;
+  if (step_ == 0) record_metrics();
 }
 
 void SeaweedScenario::record_metrics() {
   last_ = bodies_->clusters();
   if (decomp_->rank() == 0)
-    csv_ << fmt::format("{:.6f},{},{},{:.6f},{},{},{}\n", time(), last_.clusters, last_.largest,
+    csv_ << fmt::format("{:.9f},{},{},{:.6f},{},{},{}\n", time(), last_.clusters, last_.largest,
                         last_.largest_share, last_.contacts, last_.broken_joints, last_.joints)
          << std::flush;
 }
 
 void SeaweedScenario::step() {
+  if (!csv_started_) open_csv();
   auto& set = bodies_->set();
   const auto& units = lbm_->units();
-  std::vector<coupling::Stencil> st;
+  check_spheres_finite();  // before migrate, which cannot place a NaN
   {
     auto scope = ctx_.timers.scope("particles");
-    if (step_ > 0) bodies_->begin_step();  // migrate, ghosts, neighbour list
+    bodies_->begin_step();  // migrate + ghosts + lists when the skin is used up, else refresh
   }
   {
     auto scope = ctx_.timers.scope("coupling");
-    st.resize(set.n_owned());
     const double to_si = units.velocity_to_si(1.0);
     for (std::size_t i = 0; i < set.n_owned(); ++i) {
-      st[i] = coupling_->stencil(set.pos(i));
-      set.set_vec3(bodies_->a_uf, i, coupling_->interpolate(lbm_->velocity(), st[i]) * to_si);
+      const Vec3 x = set.pos(i);
+      set.set_vec3(bodies_->a_xs, i, x);
+      set.set_vec3(bodies_->a_uf, i,
+                   coupling_->interpolate(lbm_->velocity(), coupling_->stencil(x)) * to_si);
     }
   }
   {
@@ -123,14 +169,30 @@ void SeaweedScenario::step() {
     f.fill(0.0);
     if (two_way_) {
       // Reaction of the drag, averaged over the step: -impulse/dt [N] per sphere, spread with the
-      // interpolation weights as a lattice force density.
+      // interpolation weights (at the sampling position) as a lattice force density. Every rank
+      // spreads its owned and ghost spheres in global-id order into its owned cells only, so
+      // each cell sums the same terms in the same order on any rank count (no reverse halo sum).
       const double to_lat = units.force_to_lattice(1.0) / dt_;
-      for (std::size_t i = 0; i < set.n_owned(); ++i)
-        coupling_->spread(f, st[i], set.vec3(bodies_->a_imp, i) * (-to_lat));
-      force_halo_->reverse_sum();
+      std::vector<std::size_t> order(set.n_total());
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (set.id(a) != set.id(b)) return set.id(a) < set.id(b);
+        const Vec3 xa = set.vec3(bodies_->a_xs, a), xb = set.vec3(bodies_->a_xs, b);
+        return std::tie(xa.x, xa.y, xa.z) < std::tie(xb.x, xb.y, xb.z);  // periodic images
+      });
+      for (std::size_t i : order)
+        coupling_->spread_owned(f, coupling_->stencil(set.vec3(bodies_->a_xs, i)),
+                                set.vec3(bodies_->a_imp, i) * (-to_lat));
     }
   }
-  for (int k = 0; k < lbm_substeps_; ++k) lbm_->step(k == lbm_substeps_ - 1);
+  // The LBM velocity used for sampling is always the one update_macroscopic() computes from the
+  // populations and this step's force field, so output steps and restarts (which call it too)
+  // cannot change the trajectory.
+  for (int k = 0; k < lbm_substeps_; ++k) lbm_->step(false);
+  {
+    auto scope = ctx_.timers.scope("lbm_macroscopic");  // listed apart from the LBM's own timers
+    lbm_->update_macroscopic();
+  }
   ctx_.timers.add("lbm", lbm_->time_collide() + lbm_->time_halo() + lbm_->time_boundary() -
                              t_lbm_[0] - t_lbm_[1] - t_lbm_[2]);
   t_lbm_[0] = lbm_->time_collide(), t_lbm_[1] = lbm_->time_halo(),
@@ -207,6 +269,9 @@ void SeaweedScenario::write_checkpoint(const std::string& path) {
   w.write_attribute("scenario", std::string("seaweed"));
   w.write_attribute("config", ctx_.config.effective_toml());
   w.write_attribute("seaweed_step", static_cast<std::int64_t>(step_));
+  w.write_attribute("seaweed_broken_joints", static_cast<std::int64_t>(last_broken_total()));
+  // The force field of the last step enters the velocity the next step samples.
+  w.write_field("seaweed_lbm_force", lbm_->force(), 0, 3);
   lbm_->write_checkpoint(w);
   // Particles: every migrating column, one row per owned sphere (ids travel bit-exactly).
   auto& s = bodies_->set();
@@ -219,8 +284,11 @@ void SeaweedScenario::write_checkpoint(const std::string& path) {
 
 void SeaweedScenario::read_checkpoint(const std::string& path) {
   io::CheckpointReader r(*decomp_, path);
+  r.read_field("seaweed_lbm_force", lbm_->force(), 0, 3);  // before the LBM's macroscopic update
   lbm_->read_checkpoint(r);
   step_ = r.read_attribute_int("seaweed_step");
+  const long long broken = r.read_attribute_int("seaweed_broken_joints");
+  bodies_->broken_local() = decomp_->rank() == 0 ? broken : 0;  // summed over ranks in metrics
   int width = 0;
   auto rows = r.read_all_rows("seaweed_particles", width);
   auto& s = bodies_->set();
@@ -236,17 +304,36 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
     s.unpack(i, false, row);
   }
   bodies_->begin_step();
+  last_ = bodies_->clusters();
+}
+
+long long SeaweedScenario::last_broken_total() {
+  long long b = bodies_->broken_local();
+  MPI_Allreduce(MPI_IN_PLACE, &b, 1, MPI_LONG_LONG, MPI_SUM, ctx_.comm);
+  return b;
+}
+
+void SeaweedScenario::check_spheres_finite() {
+  // Collective, so every rank throws together (a throw on one rank alone would leave the others
+  // waiting in the next collective).
+  const auto& s = bodies_->set();
+  std::uint64_t bad = ~std::uint64_t{0};
+  for (std::size_t i = 0; i < s.n_owned(); ++i) {
+    const Vec3 p = s.pos(i);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      bad = std::min(bad, s.id(i));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_UINT64_T, MPI_MIN, ctx_.comm);
+  if (bad != ~std::uint64_t{0})
+    throw core::UnstableError(fmt::format(
+        "seaweed: sphere {} non-finite at step {} (typical causes: plants grown through the tank "
+        "walls, see the start-up warning; two-way coupling of a dense lump; docs/seaweed.md)",
+        bad, step_));
 }
 
 void SeaweedScenario::check_health() {
   lbm_->check_health();
-  auto& s = bodies_->set();
-  for (std::size_t i = 0; i < s.n_owned(); ++i) {
-    const Vec3 p = s.pos(i);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw core::UnstableError(
-          fmt::format("seaweed: sphere {} non-finite at step {}", s.id(i), step_));
-  }
+  check_spheres_finite();
 }
 
 std::string SeaweedScenario::progress() {
@@ -255,7 +342,8 @@ std::string SeaweedScenario::progress() {
 }
 
 std::vector<std::string> SeaweedScenario::timer_sections() const {
-  return {"growth", "lbm", "particles", "coupling", "clusters", "output", "checkpoint"};
+  return {"growth",   "lbm",      "lbm_macroscopic", "particles",
+          "coupling", "clusters", "output",          "checkpoint"};
 }
 
 }  // namespace biota::scenarios

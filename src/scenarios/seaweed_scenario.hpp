@@ -33,15 +33,21 @@ class SeaweedScenario : public Scenario {
   void check_health() override;
   std::string progress() override;
   std::vector<std::string> timer_sections() const override;
+  /// \brief The plant bodies (tests and diagnostics).
+  const models::plants::SeaweedBodies& bodies() const { return *bodies_; }
+  /// \brief The fluid solver (tests and diagnostics).
+  const solvers::lbm::LbmSolver& lbm() const { return *lbm_; }
 
  private:
   void write_particles();
   void record_metrics();
+  void open_csv();
+  void check_spheres_finite();
+  long long last_broken_total();
 
   RunContext ctx_;
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::lbm::LbmSolver> lbm_;
-  std::unique_ptr<grid::HaloExchange> force_halo_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
   std::unique_ptr<coupling::TrilinearCoupling> coupling_;
   std::unique_ptr<models::plants::SeaweedBodies> bodies_;
@@ -53,6 +59,7 @@ class SeaweedScenario : public Scenario {
   long long step_ = 0;
   models::plants::ClusterMetrics last_{};
   std::ofstream csv_;
+  bool csv_started_ = false;
   double t_lbm_[3] = {0, 0, 0};
 };
 

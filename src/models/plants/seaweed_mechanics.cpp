@@ -90,10 +90,14 @@ particles::ParticleLayout seaweed_layout() {
   l.add_real("force", 3, false, false);
   l.add_real("torque", 3, false, false);
   l.add_real("u_fluid", 3, true, false);
-  l.add_real("drag_impulse", 3, true, false);
-  l.add_real("anchor_child", 3, true, false);
-  l.add_real("anchor_parent", 3, true, false);
-  l.add_real("q_rest", 4, true, false);
+  // Joint rest data and the drag impulse travel with ghosts: a joint or a contact is evaluated by
+  // every rank owning one of its spheres, and spreading reads ghosts' impulses (decomposition
+  // invariance, see begin_step).
+  l.add_real("drag_impulse", 3, true, true);
+  l.add_real("anchor_child", 3, true, true);
+  l.add_real("anchor_parent", 3, true, true);
+  l.add_real("q_rest", 4, true, true);
+  l.add_real("x_sample", 3, true, true);
   l.add_real("joint_force", 1, true, false);
   l.add_real("joint_torque", 1, true, false);
   l.add_real("radius", 1, true, true);
@@ -111,6 +115,7 @@ SeaweedBodies::SeaweedBodies(particles::ParticleComm& comm, MechanicsParams para
   a_anchor_p = L.find_real("anchor_parent"), a_qrest = L.find_real("q_rest");
   a_jforce = L.find_real("joint_force"), a_jtorque = L.find_real("joint_torque");
   a_radius = L.find_real("radius");
+  a_xs = L.find_real("x_sample");
   u_plant = L.find_u64("plant"), u_parent = L.find_u64("parent");
 }
 
@@ -169,32 +174,99 @@ long long SeaweedBodies::global_count() const {
   return n;
 }
 
-void SeaweedBodies::begin_step() {
-  comm_.migrate(set_);
+Real SeaweedBodies::ghost_cutoff() const {
   const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
   const Real bond_range = 2 * p_.spacing + p_.skin;
-  comm_.build_ghosts(set_, std::max(contact_range, bond_range));
+  return std::max(contact_range, bond_range);
+}
+
+void SeaweedBodies::begin_step() {
+  // Full rebuild (migrate + ghosts + lists) when a sphere moved more than half the skin since the
+  // last build, after a rebuild inside advance() (which did not migrate), and at the start.
+  if (!built_ || need_migrate_ || max_displacement_exceeded()) {
+    comm_.migrate(set_);
+    rebuild_lists();
+    need_migrate_ = false;
+    built_ = true;
+  } else {
+    comm_.update_ghosts(set_);
+  }
+}
+
+bool SeaweedBodies::max_displacement_exceeded() const {
+  Real m2 = 0;
+  for (std::size_t i = 0; i < set_.n_owned() && i < x_build_.size(); ++i) {
+    const Vec3 d = set_.pos(i) - x_build_[i];
+    m2 = std::max(m2, core::dot(d, d));
+  }
+  int flag = m2 > 0.25 * p_.skin * p_.skin;
+  MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm());
+  return flag != 0;
+}
+
+void SeaweedBodies::rebuild_lists() {
+  comm_.build_ghosts(set_, ghost_cutoff());
+  ++rebuilds_;
+  const std::size_t no = set_.n_owned(), nt = set_.n_total();
+  x_build_.resize(no);
+  for (std::size_t i = 0; i < no; ++i) x_build_[i] = set_.pos(i);
   slots_.clear();
-  slots_.reserve(set_.n_total());
-  for (std::size_t i = 0; i < set_.n_total(); ++i) slots_.emplace(set_.id(i), i);
-  // Verlet pair list: pairs within the contact range, filtered so each pair is computed on
-  // exactly one rank (see file comment).
+  slots_.reserve(nt);
+  for (std::size_t i = 0; i < nt; ++i) slots_.emplace(set_.id(i), i);
+  // Every interaction touching an owned sphere is listed here, also when the other sphere is a
+  // ghost: both owners evaluate it with identical inputs and each adds it to its own sphere only,
+  // so nothing is scattered back and the sum on a sphere never depends on the decomposition.
+  // Pairs are oriented (lower id, higher id); the list covers pairs closer than the contact range
+  // plus the skin.
   pairs_.clear();
-  const std::size_t no = set_.n_owned();
+  const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
   particles::CellList cl(set_.real(ParticleSet::kPos, 0), set_.real(ParticleSet::kPos, 1),
-                         set_.real(ParticleSet::kPos, 2), set_.n_total(), contact_range);
+                         set_.real(ParticleSet::kPos, 2), nt, contact_range);
   cl.for_each_pair([&](std::size_t i, std::size_t j, Real) {
-    const bool oi = i < no, oj = j < no;
-    if (!oi && !oj) return;
-    if (oi != oj) {
-      const std::size_t own = oi ? i : j, other = oi ? j : i;
-      if (!(set_.id(own) < set_.id(other))) return;
-    }
+    if (i >= no && j >= no) return;
     // Joined neighbours and siblings on one parent do not collide.
     const GlobalId pi = set_.u64(u_parent)[i], pj = set_.u64(u_parent)[j];
     if (pi == set_.id(j) || pj == set_.id(i) || (pi == pj && pi != kNoId)) return;
     pairs_.emplace_back(set_.id(i) < set_.id(j) ? i : j, set_.id(i) < set_.id(j) ? j : i);
   });
+  joints_.clear();
+  for (std::size_t c = 0; c < nt; ++c) {
+    const GlobalId pid = set_.u64(u_parent)[c];
+    if (pid == kNoId) continue;
+    const std::size_t p = find_near(pid, set_.pos(c));
+    if (p == SIZE_MAX) continue;  // partner out of range: only possible for a ghost child
+    if (c < no || p < no) joints_.emplace_back(c, p);
+  }
+  // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
+  struct Entry {
+    GlobalId partner;
+    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
+    std::uint32_t index;
+    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
+  };
+  std::vector<std::vector<Entry>> lists(no);
+  for (std::size_t m = 0; m < joints_.size(); ++m) {
+    const auto [c, p] = joints_[m];
+    if (c < no) lists[c].push_back({set_.id(p), 0, static_cast<std::uint32_t>(m), 0});
+    if (p < no) lists[p].push_back({set_.id(c), 1, static_cast<std::uint32_t>(m), 1});
+  }
+  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+    const auto [i, j] = pairs_[m];
+    if (i < no) lists[i].push_back({set_.id(j), 2, static_cast<std::uint32_t>(m), 0});
+    if (j < no) lists[j].push_back({set_.id(i), 2, static_cast<std::uint32_t>(m), 1});
+  }
+  adj_begin_.assign(no + 1, 0);
+  adj_.clear();
+  for (std::size_t i = 0; i < no; ++i) {
+    auto& l = lists[i];
+    std::sort(l.begin(), l.end(), [](const Entry& a, const Entry& b) {
+      return a.partner != b.partner ? a.partner < b.partner : a.kind < b.kind;
+    });
+    for (const Entry& e : l)
+      adj_.push_back(
+          {static_cast<std::uint32_t>(e.kind == 2 ? joints_.size() + e.index : e.index), e.side});
+    adj_begin_[i + 1] = adj_.size();
+  }
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -214,38 +286,18 @@ std::size_t SeaweedBodies::find_near(GlobalId id, const Vec3& near) const {
 }
 
 void SeaweedBodies::compute_forces(Real dt_sub) {
-  set_.zero_real(a_force);
-  set_.zero_real(a_torque);
   const std::size_t no = set_.n_owned();
-  const Real m = p_.mass(), V = 4.0 / 3.0 * std::numbers::pi * p_.radius * p_.radius * p_.radius;
+  const Real V = 4.0 / 3.0 * std::numbers::pi * p_.radius * p_.radius * p_.radius;
   const Real area = std::numbers::pi * p_.radius * p_.radius;
   const Vec3 weight{0, 0,
                     (p_.water_density - p_.plant_density) * V * p_.gravity};  // eq. 9 + gravity
-  (void)m;
-  // Body forces and drag (eq. 10, relative velocity).
-  for (std::size_t i = 0; i < no; ++i) {
-    const Vec3 rel = set_.vec3(a_uf, i) - set_.vec3(a_vel, i);
-    const Vec3 drag = rel * (0.5 * p_.drag_cd * p_.water_density * area * core::norm(rel));
-    set_.add_vec3(a_force, i, weight + drag);
-    set_.add_vec3(a_imp, i, drag * dt_sub);
-    // Tank walls: the same contact spring as sphere-sphere contacts.
-    const Vec3 x = set_.pos(i), v = set_.vec3(a_vel, i);
-    for (int d = 0; d < 3; ++d) {
-      if (comm_.decomposition().periodic(d)) continue;
-      const Real lo = comm_.domain_lo()[d] + p_.radius - x[d];
-      const Real hi = x[d] - (comm_.domain_hi()[d] - p_.radius);
-      Vec3 f{};
-      if (lo > 0) f[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * v[d]);
-      if (hi > 0) f[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * v[d]);
-      set_.add_vec3(a_force, i, f);
-    }
-  }
-  // Joints: owned children.
-  for (std::size_t i = 0; i < no; ++i) {
-    const GlobalId pid = set_.u64(u_parent)[i];
-    if (pid == kNoId) continue;
-    const std::size_t j = find_near(pid, set_.pos(i));
-    if (j == SIZE_MAX) continue;  // cannot happen while the cutoff covers the bond
+  // Interaction results: [joints..., contacts...], force and torque on each of the two spheres.
+  const std::size_t nj = joints_.size(), ni = nj + pairs_.size();
+  res_.assign(ni, {});
+  // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data.
+  for (std::size_t m = 0; m < nj; ++m) {
+    const auto [i, j] = joints_[m];
+    if (set_.u64(u_parent)[i] != set_.id(j)) continue;  // broken since the list was built
     const core::Quat qc = get_q(set_, a_quat, i), qp = get_q(set_, a_quat, j);
     const Vec3 rc = qc.rotate(set_.vec3(a_anchor_c, i)), rp = qp.rotate(set_.vec3(a_anchor_p, i));
     const Vec3 wc = set_.vec3(a_omega, i), wp = set_.vec3(a_omega, j);
@@ -257,20 +309,17 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     const core::Quat rel = qp.conj() * qc * get_q(set_, a_qrest, i).conj();
     const Vec3 theta = qp.rotate(rel.rotation_vector());
     const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
-    set_.add_vec3(a_force, i, F);
-    set_.add_vec3(a_torque, i, core::cross(rc, F) + T);
-    set_.add_vec3(a_force, j, -F);
-    set_.add_vec3(a_torque, j, core::cross(rp, -F) - T);
-    const Real fm = core::norm(F), tm = core::norm(T);
-    set_.real(a_jforce)[i] = fm;
-    set_.real(a_jtorque)[i] = tm;
-    if (fm > p_.force_limit || tm > p_.torque_limit) {  // eq. 8
-      set_.u64(u_parent)[i] = kNoId;
-      ++broken_local_;
+    res_[m] = {F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T, true};
+    if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
+      const Real fm = core::norm(F), tm = core::norm(T);
+      set_.real(a_jforce)[i] = fm;
+      set_.real(a_jtorque)[i] = tm;
+      if (fm > p_.force_limit || tm > p_.torque_limit) broken_now_.push_back(i);
     }
   }
   // Contacts.
-  for (auto [i, j] : pairs_) {
+  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+    const auto [i, j] = pairs_[m];
     const Vec3 d = set_.pos(i) - set_.pos(j);
     const Real dist = core::norm(d), ri = set_.real(a_radius)[i], rj = set_.real(a_radius)[j];
     const Real overlap = ri + rj - dist;
@@ -286,12 +335,41 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     Vec3 ft{};
     if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
     const Vec3 F = n * fn + ft;
-    set_.add_vec3(a_force, i, F);
-    set_.add_vec3(a_torque, i, core::cross(n * (-ri), ft));
-    set_.add_vec3(a_force, j, -F);
-    set_.add_vec3(a_torque, j, core::cross(n * rj, -ft));
+    res_[nj + m] = {F, core::cross(n * (-ri), ft), -F, core::cross(n * rj, -ft), true};
   }
-  comm_.reverse_sum(set_, {a_force, a_torque});
+  // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
+  // order.
+  for (std::size_t i = 0; i < no; ++i) {
+    const Vec3 rel = set_.vec3(a_uf, i) - set_.vec3(a_vel, i);
+    const Vec3 drag = rel * (0.5 * p_.drag_cd * p_.water_density * area * core::norm(rel));
+    Vec3 f = weight + drag, t{};
+    set_.add_vec3(a_imp, i, drag * dt_sub);
+    // Tank walls: the same contact spring as sphere-sphere contacts.
+    const Vec3 x = set_.pos(i), v = set_.vec3(a_vel, i);
+    for (int d = 0; d < 3; ++d) {
+      if (comm_.decomposition().periodic(d)) continue;
+      const Real lo = comm_.domain_lo()[d] + p_.radius - x[d];
+      const Real hi = x[d] - (comm_.domain_hi()[d] - p_.radius);
+      Vec3 fw{};
+      if (lo > 0) fw[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * v[d]);
+      if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * v[d]);
+      if (lo > 0 || hi > 0) f = f + fw;
+    }
+    for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+      const Result& r = res_[adj_[k].first];
+      if (!r.active) continue;
+      f = f + (adj_[k].second == 0 ? r.f0 : r.f1);
+      t = t + (adj_[k].second == 0 ? r.t0 : r.t1);
+    }
+    set_.set_vec3(a_force, i, f);
+    set_.set_vec3(a_torque, i, t);
+  }
+  // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
+  for (std::size_t i : broken_now_) {
+    set_.u64(u_parent)[i] = kNoId;
+    ++broken_local_;
+  }
+  broken_now_.clear();
 }
 
 void SeaweedBodies::advance(Real dt) {
@@ -299,7 +377,14 @@ void SeaweedBodies::advance(Real dt) {
   const Real h = dt / ns, m = p_.mass(), I = p_.inertia();
   set_.zero_real(a_imp);
   for (int s = 0; s < ns; ++s) {
-    if (s > 0) comm_.update_ghosts(set_);
+    if (s > 0) {
+      if (max_displacement_exceeded()) {  // skin used up inside the step: new ghosts and lists
+        rebuild_lists();
+        need_migrate_ = true;
+      } else {
+        comm_.update_ghosts(set_);
+      }
+    }
     compute_forces(h);
     // Symplectic Euler: velocities first, then positions with the new velocities.
     for (std::size_t i = 0; i < set_.n_owned(); ++i) {
@@ -311,6 +396,7 @@ void SeaweedBodies::advance(Real dt) {
       set_q(set_, a_quat, i, get_q(set_, a_quat, i).integrated(w, h));
     }
   }
+  comm_.update_ghosts(set_);  // ghosts carry the step's final state and drag impulse
 }
 
 ClusterMetrics SeaweedBodies::clusters() {
@@ -320,6 +406,7 @@ ClusterMetrics SeaweedBodies::clusters() {
   std::vector<std::uint64_t> local;
   long long contacts = 0;
   for (auto [i, j] : pairs_) {
+    if (i >= set_.n_owned()) continue;  // counted by the owner of the lower-id sphere
     const auto a = set_.u64(u_plant)[i], b = set_.u64(u_plant)[j];
     if (a == b) continue;
     const Real gap =

@@ -6,11 +6,16 @@
 /// sphere-sphere contacts with Coulomb-capped viscous friction. Explicit symplectic sub-steps.
 ///
 /// Parallel: spheres live in a particles::ParticleSet; a joint is stored on its child sphere (the
-/// parent's global id, rest anchors, rest orientation), computed only by the child's owner, and the
-/// reaction on a parent that is a ghost is returned by ParticleComm::reverse_sum. A break is
-/// decided once, by that owner, so both sides see the same joint state after the next ghost
-/// refresh. A contact pair is computed once: by the owner if both are owned, else by the rank
-/// owning the smaller global id.
+/// parent's global id, rest anchors, rest orientation; these travel with ghosts). Every joint and
+/// contact touching an owned sphere is evaluated by each rank owning one of its two spheres, with
+/// identical inputs, and each rank adds it only to its own spheres, summing the interactions of a
+/// sphere in a fixed order (partner global id, kind). Nothing is scattered back, so forces, and
+/// hence trajectories, are bitwise the same on any rank count (docs/seaweed.md). A break is
+/// decided by the child's owner; the parent's side sees it at the next ghost refresh (the next
+/// sub-step), the same sub-step in which the child stops applying it.
+///
+/// Neighbour lists (Verlet, with `skin`) are rebuilt when any sphere moved more than skin/2 since
+/// the last build (checked every sub-step, collectively).
 #include <functional>
 #include <unordered_map>
 #include <vector>
@@ -61,8 +66,15 @@ class SeaweedBodies {
   void build(const Population& pop, int n_plants);
   particles::ParticleSet& set() { return set_; }
   const particles::ParticleSet& set() const { return set_; }
-  /// \brief Start of a physics step: migrate, ghosts, neighbour list. Collective.
+  /// \brief Start of a physics step: migrate + ghosts + neighbour lists when the skin is used up
+  /// (or a sub-step rebuilt without migrating), else a ghost refresh. Collective.
   void begin_step();
+  /// \brief Number of neighbour-list rebuilds so far (tests, timing).
+  long long rebuilds() const { return rebuilds_; }
+  /// \brief Ghost cutoff used for the particle halo [m].
+  Real ghost_cutoff() const;
+  /// \brief Cumulative broken joints counted on this rank (restored from checkpoints).
+  long long& broken_local() { return broken_local_; }
   /// \brief Set the fluid velocity of every owned sphere from `u` (call after begin_step).
   void sample_fluid(const VelocityFn& u);
   /// \brief Advance `dt` with params.substeps sub-steps. The fluid velocity is held fixed over the
@@ -75,17 +87,31 @@ class SeaweedBodies {
 
   // Attribute handles.
   int a_vel, a_quat, a_omega, a_force, a_torque, a_uf, a_imp, a_anchor_c, a_anchor_p, a_qrest,
-      a_jforce, a_jtorque, a_radius;
+      a_jforce, a_jtorque, a_radius, a_xs;
   int u_plant, u_parent;
 
  private:
+  struct Result {
+    Vec3 f0, t0, f1, t1;  ///< force/torque on the first and on the second sphere
+    bool active = false;
+  };
   void compute_forces(Real dt_sub);
+  void rebuild_lists();
+  bool max_displacement_exceeded() const;
   std::size_t find_near(GlobalId id, const Vec3& near) const;
 
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;    // contacts (lower id, higher id)
+  std::vector<std::pair<std::size_t, std::size_t>> joints_;   // (child, parent) local slots
+  std::vector<std::size_t> adj_begin_;                        // CSR over owned spheres
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> adj_;  // (interaction, side)
+  std::vector<Result> res_;
+  std::vector<std::size_t> broken_now_;
+  std::vector<Vec3> x_build_;  // owned positions at the last list build
+  bool built_ = false, need_migrate_ = false;
+  long long rebuilds_ = 0;
   std::unordered_multimap<GlobalId, std::size_t> slots_;  // global id -> local slots
   int n_plants_ = 0;
   long long broken_local_ = 0;

@@ -30,6 +30,10 @@ void GrowthParams::declare_config(core::ConfigSchema& s) {
   s.add_bool("growth.interference", true, "avoid other buds' personal space");
   s.add_int("growth.max_retries", 20, 0, 10000,
             "angle redraws before a metamer is given up (the growth unit rests this cycle)");
+  s.add_string("growth.model", "ulva", {"ulva", "general"},
+               "ulva: the seaweed model (eq. 5-7, paper Table 1); general: growth.general.* "
+               "(eq. 1-4 with P_C, P_A, P_I, P_B)");
+  ArchitectureParams::declare_config(s);
 }
 
 GrowthParams GrowthParams::from_config(const core::Config& c) {
@@ -53,6 +57,8 @@ GrowthParams GrowthParams::from_config(const core::Config& c) {
   g.personal_radius = c.get_real("growth.personal_radius");
   g.interference = c.get_bool("growth.interference");
   g.max_retries = static_cast<int>(c.get_int("growth.max_retries"));
+  g.general = c.get_string("growth.model") == "general";
+  if (g.general) g.arch = ArchitectureParams::from_config(c);
   return g;
 }
 
@@ -120,10 +126,35 @@ core::Quat random_rotation(core::Rng& r) {
       .normalized();
 }
 
+// Elongation G(l, phi, theta, psi) from `from` in `parent_frame`: up to max_retries + 1 angle
+// draws keeping l; false when every position lies in another bud's personal space.
+bool place(core::Rng& rng, const GrowthParams& gp, const BudHash& hash,
+           const std::vector<Bud>& buds, const Vec3& from, const core::Quat& parent_frame, Real l,
+           Vec3& pos, core::Quat& frame, CycleStats& st) {
+  constexpr Real deg = std::numbers::pi / 180;
+  for (int attempt = 0; attempt <= gp.max_retries; ++attempt) {
+    const Real roll = rng.uniform(-gp.roll_max, gp.roll_max) * deg;
+    const Real pitch = rng.uniform(-gp.pitch_max, gp.pitch_max) * deg;
+    const Real yaw = rng.uniform(-gp.yaw_max, gp.yaw_max) * deg;
+    // Intrinsic roll (about the growth direction x), then pitch (y), then yaw (z).
+    frame = (parent_frame * core::Quat::axis_angle({1, 0, 0}, roll) *
+             core::Quat::axis_angle({0, 1, 0}, pitch) * core::Quat::axis_angle({0, 0, 1}, yaw))
+                .normalized();
+    pos = from + frame.rotate({1, 0, 0}) * l;
+    const bool blocked = gp.interference && hash.any_within(pos, gp.personal_radius, buds,
+                                                            [](std::size_t) { return false; });
+    if (!blocked) return true;
+    if (attempt < gp.max_retries) ++st.retries;
+  }
+  return false;
+}
+
+Population grow_general(const GrowthParams& gp, const std::vector<Vec3>& seeds);
+
 }  // namespace
 
 Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seeds) {
-  constexpr Real deg = std::numbers::pi / 180;
+  if (gp.general) return grow_general(gp, seeds);
   Population pop;
   BudHash hash(gp.personal_radius);
   std::vector<Tip> tips;
@@ -159,27 +190,9 @@ Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seed
       ++st.successes;
       const Bud& parent = pop.buds[t.bud];
       const Real l = rng.uniform(gp.length_min, gp.length_max) * environment_factor(gp, parent.pos);
-      bool placed = false;
       core::Quat frame;
       Vec3 pos;
-      for (int attempt = 0; attempt <= gp.max_retries; ++attempt) {
-        const Real roll = rng.uniform(-gp.roll_max, gp.roll_max) * deg;
-        const Real pitch = rng.uniform(-gp.pitch_max, gp.pitch_max) * deg;
-        const Real yaw = rng.uniform(-gp.yaw_max, gp.yaw_max) * deg;
-        // Intrinsic roll (about the growth direction x), then pitch (y), then yaw (z).
-        frame = (t.frame * core::Quat::axis_angle({1, 0, 0}, roll) *
-                 core::Quat::axis_angle({0, 1, 0}, pitch) * core::Quat::axis_angle({0, 0, 1}, yaw))
-                    .normalized();
-        pos = parent.pos + frame.rotate({1, 0, 0}) * l;
-        const bool blocked = gp.interference && hash.any_within(pos, gp.personal_radius, pop.buds,
-                                                                [](std::size_t) { return false; });
-        if (!blocked) {
-          placed = true;
-          break;
-        }
-        if (attempt < gp.max_retries) ++st.retries;
-      }
-      if (!placed) {
+      if (!place(rng, gp, hash, pop.buds, parent.pos, t.frame, l, pos, frame, st)) {
         // Fallback (the paper has no retry limit): the metamer is not created and the growth
         // unit rests, so it may try again next cycle.
         ++st.blocked;
@@ -207,6 +220,130 @@ Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seed
   }
   return pop;
 }
+
+namespace {
+
+// The general model (architecture.hpp) with the Ulva geometry: the metamers of a growth unit are
+// chained along the axis (each one elongation G from the previous node, environment factor and
+// interference as for Ulva; a blocked metamer is not created), lateral buds sit on their metamer's
+// node and start a new axis turned by a random (roll, pitch, yaw) from the metamer's frame.
+// Apex ids: seed j's k-th apex j*64 + k; an apex continuing from bud b: b*64; the n-th lateral of
+// bud b: b*64 + 1 + n. Apices are processed in id order (fixed priority, as for Ulva).
+Population grow_general(const GrowthParams& gp, const std::vector<Vec3>& seeds) {
+  constexpr Real deg = std::numbers::pi / 180;
+  const ArchitectureParams& A = gp.arch;
+  A.validate();
+  const int n = A.types;
+  struct Apex {
+    GlobalId id, bud;
+    core::Quat frame;
+    int type, age;  // 0-based type; growth cycles done in this type
+  };
+  Population pop;
+  BudHash hash(gp.personal_radius);
+  std::vector<Apex> apices;
+  for (std::size_t j = 0; j < seeds.size(); ++j) {
+    Bud b;
+    b.id = j;
+    b.plant = static_cast<int>(j);
+    b.pos = seeds[j];
+    pop.buds.push_back(b);
+    hash.insert(b.pos, j);
+    core::Rng rng(gp.seed, j, 0, core::RngPurpose::kPlacement);
+    for (int k = 0; k < gp.initial_branches; ++k)
+      apices.push_back(
+          {static_cast<GlobalId>(j) * 64 + k, j, random_rotation(rng), A.initial_type - 1, 0});
+  }
+  for (int cycle = 1; cycle <= gp.cycles; ++cycle) {
+    CycleStats st;
+    st.units_by_type.assign(n, 0), st.metamers_by_type.assign(n, 0);
+    st.laterals_by_type.assign(n, 0);
+    st.tips_before = static_cast<long long>(apices.size());
+    std::vector<Apex> next;
+    for (const Apex& t : apices) {
+      core::Rng rng(gp.seed, t.id, static_cast<std::uint64_t>(cycle), core::RngPurpose::kGrowth);
+      ++st.trials;
+      const int p = t.type;
+      if (!rng.bernoulli(A.p_c[p])) {  // the apex dies (1 - P_C)
+        ++st.died;
+        continue;
+      }
+      if (rng.bernoulli(A.p_a[p])) {  // it rests this cycle (P_A)
+        ++st.rested;
+        next.push_back(t);
+        continue;
+      }
+      ++st.successes;
+      ++st.units_by_type[p];
+      GlobalId at = t.bud;
+      core::Quat frame = t.frame;
+      struct Made {
+        GlobalId bud;
+        int type;
+        core::Quat frame;
+      };
+      std::vector<Made> made;
+      for (int k = 0; k < n; ++k)
+        for (int m = 0; m < A.mi(p, k); ++m) {
+          if (!rng.bernoulli(A.p_i[k])) continue;  // the metamer does not appear (1 - P_I)
+          const Bud& from = pop.buds[at];
+          const Real l =
+              rng.uniform(gp.length_min, gp.length_max) * environment_factor(gp, from.pos);
+          core::Quat f;
+          Vec3 pos;
+          if (!place(rng, gp, hash, pop.buds, from.pos, frame, l, pos, f, st)) {
+            ++st.blocked;
+            continue;
+          }
+          Bud b;
+          b.id = pop.buds.size();
+          b.parent = at;
+          b.plant = from.plant;
+          b.cycle = cycle;
+          b.type = k + 1;
+          b.pos = pos;
+          pop.buds.push_back(b);
+          hash.insert(pos, b.id);
+          ++st.grown;
+          ++st.metamers_by_type[k];
+          made.push_back({b.id, k, f});
+          at = b.id;
+          frame = f;
+        }
+      for (const Made& m : made) {
+        int count = 0;
+        for (int j = 0; j < n; ++j)
+          for (int q = 0; q < A.nb(m.type, j); ++q) {
+            if (!rng.bernoulli(A.p_b[j])) continue;  // the lateral bud does not branch
+            const Real roll = rng.uniform(-gp.roll_max, gp.roll_max) * deg;
+            const Real pitch = rng.uniform(-gp.pitch_max, gp.pitch_max) * deg;
+            const Real yaw = rng.uniform(-gp.yaw_max, gp.yaw_max) * deg;
+            const core::Quat lf =
+                (m.frame * core::Quat::axis_angle({1, 0, 0}, roll) *
+                 core::Quat::axis_angle({0, 1, 0}, pitch) * core::Quat::axis_angle({0, 0, 1}, yaw))
+                    .normalized();
+            next.push_back({m.bud * 64 + 1 + count++, m.bud, lf, j, 0});
+            ++st.laterals_by_type[j];
+            ++st.laterals;
+          }
+      }
+      // Change of physiological age (M_A, T_A) after this growth cycle.
+      Apex c{at == t.bud ? t.id : at * 64, at, frame, p, t.age + 1};
+      if (A.m_a[p] > 0 && c.age >= A.m_a[p]) {
+        if (A.t_a[p] == 0) continue;  // the apex stops
+        c.type = A.t_a[p] - 1;
+        c.age = 0;
+      }
+      next.push_back(c);
+    }
+    std::sort(next.begin(), next.end(), [](const Apex& a, const Apex& b) { return a.id < b.id; });
+    apices.swap(next);
+    pop.stats.push_back(st);
+  }
+  return pop;
+}
+
+}  // namespace
 
 }  // namespace biota::models::plants
 

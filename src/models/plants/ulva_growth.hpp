@@ -15,6 +15,7 @@
 #include "core/config.hpp"
 #include "core/quat.hpp"
 #include "core/types.hpp"
+#include "models/plants/architecture.hpp"
 
 namespace biota::models::plants {
 
@@ -38,6 +39,11 @@ struct GrowthParams {
   Real personal_radius = 0.015;
   bool interference = true;
   int max_retries = 20;
+  /// \brief false: the Ulva model (paper 3-3, eq. 5-7; the default, the paper's experiment);
+  /// true: the general model of `arch` (paper 3-1/3-2, eq. 1-4) with the same elongation,
+  /// environment factor and interference avoidance.
+  bool general = false;
+  ArchitectureParams arch = ArchitectureParams::kang_example();
 
   /// \brief Declare the `growth.*` keys.
   static void declare_config(core::ConfigSchema& schema);
@@ -51,6 +57,7 @@ struct Bud {
   GlobalId parent = ~GlobalId{0};  ///< none for the seed
   int plant = 0;
   int cycle = 0;  ///< cycle in which the bud was created (0 = seed)
+  int type = 0;   ///< general model: physiological age of the metamer (1-based); 0 seed / Ulva
   Vec3 pos{};
 };
 
@@ -63,6 +70,11 @@ struct CycleStats {
   long long blocked = 0;      ///< metamers given up after max_retries
   long long retries = 0;      ///< interference redraws
   long long laterals = 0;     ///< lateral growth units created
+  // General model only (sized `types`, 0-based type):
+  long long died = 0, rested = 0;           ///< apices lost (1 - P_C) / resting (P_A)
+  std::vector<long long> units_by_type;     ///< growth units built
+  std::vector<long long> metamers_by_type;  ///< metamers created (after interference)
+  std::vector<long long> laterals_by_type;  ///< lateral buds that branched (new apices)
 };
 
 /// \brief The grown population.
@@ -74,7 +86,8 @@ struct Population {
 /// \brief Environment factor e of the region containing `p` (concentric regions, outer grow more).
 Real environment_factor(const GrowthParams& gp, const Vec3& p);
 
-/// \brief Grow `seeds.size()` plants from the seed positions for gp.cycles cycles.
+/// \brief Grow `seeds.size()` plants from the seed positions for gp.cycles cycles (Ulva model, or
+/// the general model when gp.general).
 Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seeds);
 
 }  // namespace biota::models::plants
