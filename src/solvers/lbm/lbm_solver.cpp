@@ -378,7 +378,10 @@ void LbmSolver::apply_boundaries() {
         f[q][l.s] = f[l.q2][l.x2];
         break;
       case int(FaceType::kPressure): {
-        // Equilibrium at rho = 1 with the cell's own (post-collision) velocity.
+        // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of
+        // the equilibrium enters, so the cell's velocity does not feed back linearly. (Plain
+        // equilibrium with the cell's velocity grew round-off at outlet/wall corners into a blow-up
+        // after ~4e4 steps.)
         double m = 0, jx = 0, jy = 0, jz = 0;
         for (int p = 0; p < nq_; ++p) {
           const double v = f[p][l.x];
@@ -389,7 +392,8 @@ void LbmSolver::apply_boundaries() {
         }
         const double ux = jx / m, uy = jy / m, uz = jz / m;
         const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-        f[q][l.s] = w_[q] * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
+        f[q][l.s] = -f[opp_[q]][l.x] +
+                    2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
         break;
       }
       case int(FaceType::kZeroGradient):
