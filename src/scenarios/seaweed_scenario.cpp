@@ -96,6 +96,8 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
         "seaweed: particle ghost cutoff below one lattice cell; spreading "
         "needs every sphere within one cell of a rank's box as a ghost");
   if (decomp_->rank() == 0) {
+    fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),
+               decomp_->dims().x, decomp_->dims().y, decomp_->dims().z);
     fmt::print(
         "seaweed: {} plants, {} spheres, growth cycles {}, {} LBM steps per physics step, "
         "omega_max*dt_sub = {:.2f}, coupling {}\n",
