@@ -350,9 +350,13 @@ void FlockScenario::begin_step() {
 }
 
 std::vector<FlockScenario::Predator> FlockScenario::gather_predators() const {
+  return gather_records(/*predators_only=*/true);
+}
+
+std::vector<BoidRecord> FlockScenario::gather_records(bool predators_only) const {
   std::vector<double> mine;
   for (std::size_t i = 0; i < set_->n_owned(); ++i) {
-    if (is_prey(set_->id(i))) continue;
+    if (predators_only && is_prey(set_->id(i))) continue;
     const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
     mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z, v.x, v.y, v.z});
   }
@@ -365,7 +369,7 @@ std::vector<FlockScenario::Predator> FlockScenario::gather_predators() const {
   std::vector<double> all(total);
   MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
                  ctx_.comm);
-  std::vector<Predator> out;
+  std::vector<BoidRecord> out;
   for (int k = 0; k + 7 <= total; k += 7)
     out.push_back({std::bit_cast<core::GlobalId>(all[k]),
                    {all[k + 1], all[k + 2], all[k + 3]},
@@ -373,6 +377,7 @@ std::vector<FlockScenario::Predator> FlockScenario::gather_predators() const {
   std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.id < b.id; });
   return out;
 }
+
 
 std::vector<FlockScenario::NearestPrey> FlockScenario::nearest_prey(
     const std::vector<Predator>& preds) const {
@@ -621,27 +626,7 @@ void FlockScenario::open_csv(bool append) {
 }
 
 std::vector<BoidRecord> FlockScenario::gather_boids() const {
-  std::vector<double> mine;
-  for (std::size_t i = 0; i < set_->n_owned(); ++i) {
-    const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
-    mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z, v.x, v.y, v.z});
-  }
-  const int P = decomp_->size();
-  int cnt = static_cast<int>(mine.size());
-  std::vector<int> counts(P), displs(P);
-  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
-  int total = 0;
-  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
-  std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                 ctx_.comm);
-  std::vector<BoidRecord> out;
-  for (int k = 0; k + 7 <= total; k += 7)
-    out.push_back({std::bit_cast<core::GlobalId>(all[k]),
-                   {all[k + 1], all[k + 2], all[k + 3]},
-                   {all[k + 4], all[k + 5], all[k + 6]}});
-  std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.id < b.id; });
-  return out;
+  return gather_records(/*predators_only=*/false);
 }
 
 void FlockScenario::write_output() {

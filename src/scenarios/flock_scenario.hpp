@@ -64,10 +64,7 @@ class FlockScenario : public Scenario {
   double last_polarisation() const { return last_phi_; }
 
  private:
-  struct Predator {
-    core::GlobalId id;
-    core::Vec3 x, v;
-  };
+  using Predator = BoidRecord;
   struct NearestPrey {
     double d2;
     core::GlobalId id;  // kNone if no prey is flying
@@ -78,6 +75,8 @@ class FlockScenario : public Scenario {
   void place_boids();
   void begin_step();  // migrate + ghosts + cell list
   std::vector<Predator> gather_predators() const;
+  /// \brief (id, x, v) of every owned boid on every rank that passes `keep`, sorted by id.
+  std::vector<BoidRecord> gather_records(bool predators_only) const;
   std::vector<NearestPrey> nearest_prey(const std::vector<Predator>& preds) const;
   void drive_sandpile(const std::vector<Predator>& preds, const std::vector<NearestPrey>& near);
   double heading_angle(core::GlobalId id);
