@@ -54,7 +54,8 @@ std::string version_text() {
   unsigned maj = 0, min = 0, rel = 0;
   H5get_libversion(&maj, &min, &rel);
   return fmt::format(
-      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n  VTK: {}\n  toml++: "
+      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n  VTK: {}\n  "
+      "toml++: "
       "{}.{}.{}\n  fmt: {}\n  compiler: {}",
       BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel, linalg::version(),
       vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH, FMT_VERSION,

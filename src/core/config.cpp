@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <toml++/toml.h>
 #include <cmath>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "core/error.hpp"
 
@@ -14,11 +14,16 @@ namespace {
 
 const char* type_name(ConfigType t) {
   switch (t) {
-    case ConfigType::kBool: return "boolean";
-    case ConfigType::kInt: return "integer";
-    case ConfigType::kReal: return "real";
-    case ConfigType::kString: return "string";
-    case ConfigType::kRealList: return "list of reals";
+    case ConfigType::kBool:
+      return "boolean";
+    case ConfigType::kInt:
+      return "integer";
+    case ConfigType::kReal:
+      return "real";
+    case ConfigType::kString:
+      return "string";
+    case ConfigType::kRealList:
+      return "list of reals";
   }
   return "?";
 }
@@ -77,7 +82,9 @@ void flatten(const toml::table& table, const std::string& prefix,
 
 }  // namespace
 
-void ConfigSchema::add(const std::string& key, KeySpec spec) { keys_[key] = std::move(spec); }
+void ConfigSchema::add(const std::string& key, KeySpec spec) {
+  keys_[key] = std::move(spec);
+}
 
 void ConfigSchema::add_real(const std::string& key, std::optional<double> def,
                             std::optional<double> min, std::optional<double> max, std::string unit,
@@ -160,8 +167,10 @@ std::string to_toml_text(const ConfigValue& v) {
   return std::visit(
       [](const auto& x) -> std::string {
         using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
-        else if constexpr (std::is_same_v<T, std::int64_t>) return fmt::format("{}", x);
+        if constexpr (std::is_same_v<T, bool>)
+          return x ? "true" : "false";
+        else if constexpr (std::is_same_v<T, std::int64_t>)
+          return fmt::format("{}", x);
         else if constexpr (std::is_same_v<T, double>) {
           std::string s = fmt::format("{}", x);
           if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
@@ -178,7 +187,8 @@ std::string to_toml_text(const ConfigValue& v) {
 }
 
 std::string ConfigSchema::reference_markdown() const {
-  std::string out = "| key | type | default | allowed | unit | meaning |\n|---|---|---|---|---|---|\n";
+  std::string out =
+      "| key | type | default | allowed | unit | meaning |\n|---|---|---|---|---|---|\n";
   for (const auto& [k, s] : keys_) {
     out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", k, type_name(s.type),
                        s.default_value ? "`" + to_toml_text(*s.default_value) + "`" : "required",
@@ -192,8 +202,8 @@ namespace {
 void check_value(const std::string& source, const std::string& key, const KeySpec& s,
                  const ConfigValue& v, const std::string& shown) {
   auto bad = [&](const std::string& why) {
-    throw InputError(fmt::format("{}: {} = {} {}; allowed: {}", source, key, shown, why,
-                                 describe_range(s)));
+    throw InputError(
+        fmt::format("{}: {} = {} {}; allowed: {}", source, key, shown, why, describe_range(s)));
   };
   if (s.type == ConfigType::kReal || s.type == ConfigType::kInt) {
     double x = s.type == ConfigType::kReal ? std::get<double>(v)
@@ -236,15 +246,16 @@ Config Config::from_string(const ConfigSchema& schema, const std::string& text,
   try {
     table = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", source,
-                                 e.source().begin.line, e.source().begin.column, e.description()));
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", source, e.source().begin.line,
+                                 e.source().begin.column, e.description()));
   }
   std::vector<std::pair<std::string, const toml::node*>> entries;
   flatten(table, "", entries);
   for (const auto& [key, node] : entries) {
     const KeySpec* spec = schema.find(key);
     if (!spec)
-      throw InputError(fmt::format("{}: unknown key '{}' (see docs/deck-reference.md)", source, key));
+      throw InputError(
+          fmt::format("{}: unknown key '{}' (see docs/deck-reference.md)", source, key));
     auto v = convert(*node, spec->type);
     if (!v)
       throw InputError(fmt::format("{}: {} = {} has the wrong type; expected {}: {}", source, key,
@@ -298,11 +309,15 @@ const ConfigValue& Config::value(const std::string& key) const {
   return it->second;
 }
 
-bool Config::get_bool(const std::string& key) const { return std::get<bool>(value(key)); }
+bool Config::get_bool(const std::string& key) const {
+  return std::get<bool>(value(key));
+}
 std::int64_t Config::get_int(const std::string& key) const {
   return std::get<std::int64_t>(value(key));
 }
-double Config::get_real(const std::string& key) const { return std::get<double>(value(key)); }
+double Config::get_real(const std::string& key) const {
+  return std::get<double>(value(key));
+}
 const std::string& Config::get_string(const std::string& key) const {
   return std::get<std::string>(value(key));
 }

@@ -35,7 +35,8 @@ struct KeySpec {
 /// \brief The set of keys a run accepts; filled by each module's `declare_config`.
 class ConfigSchema {
  public:
-  /// \brief Declare a key; declaring the same key twice with a different spec is a programming error.
+  /// \brief Declare a key; declaring the same key twice with a different spec is a programming
+  /// error.
   void add(const std::string& key, KeySpec spec);
   // Convenience declarations.
   void add_real(const std::string& key, std::optional<double> def, std::optional<double> min,

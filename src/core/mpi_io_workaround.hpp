@@ -9,6 +9,8 @@
 
 namespace biota::core {
 
-inline void select_reliable_mpi_io() { setenv("OMPI_MCA_io", "romio321", /*overwrite=*/0); }
+inline void select_reliable_mpi_io() {
+  setenv("OMPI_MCA_io", "romio321", /*overwrite=*/0);
+}
 
 }  // namespace biota::core

@@ -26,9 +26,24 @@ struct Vec3 {
   Real x = 0, y = 0, z = 0;
   constexpr Real& operator[](int d) { return d == 0 ? x : (d == 1 ? y : z); }
   constexpr Real operator[](int d) const { return d == 0 ? x : (d == 1 ? y : z); }
-  constexpr Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-  constexpr Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-  constexpr Vec3& operator*=(Real s) { x *= s; y *= s; z *= s; return *this; }
+  constexpr Vec3& operator+=(const Vec3& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
+  constexpr Vec3& operator-=(const Vec3& o) {
+    x -= o.x;
+    y -= o.y;
+    z -= o.z;
+    return *this;
+  }
+  constexpr Vec3& operator*=(Real s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
   friend constexpr Vec3 operator+(Vec3 a, const Vec3& b) { return a += b; }
   friend constexpr Vec3 operator-(Vec3 a, const Vec3& b) { return a -= b; }
   friend constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
@@ -38,10 +53,14 @@ struct Vec3 {
   constexpr bool operator==(const Vec3&) const = default;
 };
 
-constexpr Real dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Real dot(const Vec3& a, const Vec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline Real norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline Real norm(const Vec3& a) {
+  return std::sqrt(dot(a, a));
+}
 
 }  // namespace biota::core

@@ -2,9 +2,9 @@
 /// \file halo_exchange.hpp
 /// \brief Ghost-layer exchange of a Field with persistent MPI requests.
 ///
-/// Three passes, x then y then z; each later pass also carries the ghost cells filled by the earlier
-/// ones, so edges and corners are correct with 6 messages. Which components cross each face is
-/// configurable: the LBM sends only the populations that stream into the neighbour.
+/// Three passes, x then y then z; each later pass also carries the ghost cells filled by the
+/// earlier ones, so edges and corners are correct with 6 messages. Which components cross each face
+/// is configurable: the LBM sends only the populations that stream into the neighbour.
 #include <mpi.h>
 
 #include <array>

@@ -47,7 +47,9 @@ hid_t open_parallel(const std::string& path, MPI_Comm comm) {
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
   hid_t file = -1;
-  H5E_BEGIN_TRY { file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl); }
+  H5E_BEGIN_TRY {
+    file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
+  }
   H5E_END_TRY;
   H5Pclose(fapl);
   return file;
@@ -75,9 +77,9 @@ void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>
   if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
   const int rank = static_cast<int>(global.size());
   hid_t fspace = H5Screate_simple(rank, global.data(), nullptr);
-  hid_t dset = check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT,
-                                   H5P_DEFAULT),
-                        "create dataset " + name);
+  hid_t dset =
+      check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+               "create dataset " + name);
   hid_t mspace = select_block(fspace, offset, count);
   hid_t dxpl = collective_transfer();
   check(H5Dwrite(dset, type, mspace, fspace, dxpl, data), "write " + name);

@@ -97,7 +97,8 @@ void OutputStep::write() {
     writer->SetFileName((vtk_dir / piece).string().c_str());
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
-    if (!writer->Write()) throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
+    if (!writer->Write())
+      throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
   }
   MPI_Barrier(decomp_.comm());
   if (decomp_.rank() != 0) return;
@@ -107,9 +108,10 @@ void OutputStep::write() {
     std::ofstream out(vtk_dir / (stem + ".pvti"));
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PImageData\" version=\"1.0\" "
            "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
-    out << fmt::format("<PImageData WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\" "
-                       "Origin=\"{} {} {}\" Spacing=\"{} {} {}\">\n<PCellData>\n",
-                       g.x, g.y, g.z, origin_.x, origin_.y, origin_.z, dx_, dx_, dx_);
+    out << fmt::format(
+        "<PImageData WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\" "
+        "Origin=\"{} {} {}\" Spacing=\"{} {} {}\">\n<PCellData>\n",
+        g.x, g.y, g.z, origin_.x, origin_.y, origin_.z, dx_, dx_, dx_);
     for (const auto& [name, a] : arrays_)
       out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
                          name, a.ncomp);
@@ -139,10 +141,10 @@ void OutputStep::write() {
     out << fmt::format("<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n",
                        g.z + 1, g.y + 1, g.x + 1);
     out << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n",
-                       origin_.z, origin_.y, origin_.x);
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n", dx_,
-                       dx_, dx_);
+    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n", origin_.z,
+                       origin_.y, origin_.x);
+    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n", dx_, dx_,
+                       dx_);
     out << "</Geometry>\n";
     for (const auto& [name, a] : arrays_) {
       out << fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", name,

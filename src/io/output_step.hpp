@@ -18,9 +18,9 @@ namespace biota::io {
 /// \brief Output for one step of a cell grid with physical spacing `dx` (m) and `origin` (m).
 class OutputStep {
  public:
-  OutputStep(const grid::Decomposition& decomp, std::string dir, std::string prefix,
-             long long step, double time, double dx, core::Vec3 origin,
-             std::string effective_config, std::string units_note);
+  OutputStep(const grid::Decomposition& decomp, std::string dir, std::string prefix, long long step,
+             double time, double dx, core::Vec3 origin, std::string effective_config,
+             std::string units_note);
   /// \brief A scalar cell array: local owned cells, x fastest (size = product of local cells).
   void add_scalar(const std::string& name, std::vector<double> values, const std::string& unit);
   /// \brief A 3-vector cell array: local owned cells, interleaved xyz (size = 3 * cells).

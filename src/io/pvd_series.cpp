@@ -23,8 +23,9 @@ void update_pvd(const std::string& pvd_path, long long step, double time,
       if (std::regex_search(line, m, re)) entries[std::stoll(m[1])] = m[0];
   }
   entries.erase(entries.lower_bound(step), entries.end());
-  entries[step] = fmt::format(R"(<DataSet step="{}" timestep="{:.17g}" group="" part="0" file="{}"/>)",
-                              step, time, relative_file);
+  entries[step] =
+      fmt::format(R"(<DataSet step="{}" timestep="{:.17g}" group="" part="0" file="{}"/>)", step,
+                  time, relative_file);
   const std::string tmp = pvd_path + ".tmp";
   {
     std::ofstream out(tmp);

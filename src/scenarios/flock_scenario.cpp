@@ -378,7 +378,6 @@ std::vector<BoidRecord> FlockScenario::gather_records(bool predators_only) const
   return out;
 }
 
-
 std::vector<FlockScenario::NearestPrey> FlockScenario::nearest_prey(
     const std::vector<Predator>& preds) const {
   // Local candidates, then an all-gather and the same (distance, id) choice on every rank.

@@ -36,15 +36,19 @@ using SweepFn = void (*)(const SweepArgs&);
 
 template <class L, bool T, ForceMode F>
 SweepFn pick3(bool macro, bool solids) {
-  if (macro) return solids ? stream_collide<L, T, F, true, true> : stream_collide<L, T, F, true, false>;
+  if (macro)
+    return solids ? stream_collide<L, T, F, true, true> : stream_collide<L, T, F, true, false>;
   return solids ? stream_collide<L, T, F, false, true> : stream_collide<L, T, F, false, false>;
 }
 template <class L, bool T>
 SweepFn pick2(ForceMode f, bool macro, bool solids) {
   switch (f) {
-    case ForceMode::kNone: return pick3<L, T, ForceMode::kNone>(macro, solids);
-    case ForceMode::kUniform: return pick3<L, T, ForceMode::kUniform>(macro, solids);
-    default: return pick3<L, T, ForceMode::kField>(macro, solids);
+    case ForceMode::kNone:
+      return pick3<L, T, ForceMode::kNone>(macro, solids);
+    case ForceMode::kUniform:
+      return pick3<L, T, ForceMode::kUniform>(macro, solids);
+    default:
+      return pick3<L, T, ForceMode::kField>(macro, solids);
   }
 }
 template <class L>
@@ -56,7 +60,8 @@ SweepFn pick1(bool trt, ForceMode f, bool macro, bool solids) {
 
 double InletPatch::time_factor(double t) const {
   double ramp = 1.0;
-  if (ramp_time > 0 && t < ramp_time) ramp = 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp_time));
+  if (ramp_time > 0 && t < ramp_time)
+    ramp = 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp_time));
   return ramp * (1.0 + pulse_amplitude * std::sin(2.0 * std::numbers::pi * t / pulse_period));
 }
 
@@ -124,9 +129,10 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   const bool has_tau = cfg.has("lbm.tau"), has_nu = cfg.has("lbm.viscosity");
   if (has_tau == has_nu)
     cfg.fail(has_tau ? "lbm.tau" : "lbm.viscosity",
-             has_tau ? "conflicts with lbm.viscosity; give exactly one of lbm.tau (0.5, 5] or "
-                       "lbm.viscosity (0, inf)"
-                     : "is missing; give exactly one of lbm.tau (0.5, 5] or lbm.viscosity (0, inf)");
+             has_tau
+                 ? "conflicts with lbm.viscosity; give exactly one of lbm.tau (0.5, 5] or "
+                   "lbm.viscosity (0, inf)"
+                 : "is missing; give exactly one of lbm.tau (0.5, 5] or lbm.viscosity (0, inf)");
   p.viscosity = has_nu ? cfg.get_real("lbm.viscosity")
                        : (cfg.get_real("lbm.tau") - 0.5) / 3.0 * p.dx * p.dx / p.dt;
   for (int f = 0; f < 6; ++f)
@@ -150,7 +156,7 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
     cfg.fail("lbm.inlet.face", "lies on a periodic face");
   p.outlet.face = face_index(cfg, "lbm.outlet.face");
   p.outlet.type = cfg.get_string("lbm.outlet.type") == "pressure" ? FaceType::kPressure
-                                                                   : FaceType::kZeroGradient;
+                                                                  : FaceType::kZeroGradient;
   p.outlet.center[0] = cfg.get_real_list("lbm.outlet.center")[0];
   p.outlet.center[1] = cfg.get_real_list("lbm.outlet.center")[1];
   p.outlet.r_min = cfg.get_real("lbm.outlet.r_min");
@@ -247,7 +253,8 @@ void LbmSolver::update_macroscopic() {
         }
         // Post-collision momentum carries the full force; the physical velocity is half-way.
         Vec3 fl = gl;
-        if (use_force_field_) fl += Vec3{force_(i, j, k, 0), force_(i, j, k, 1), force_(i, j, k, 2)};
+        if (use_force_field_)
+          fl += Vec3{force_(i, j, k, 0), force_(i, j, k, 1), force_(i, j, k, 2)};
         rho_(i, j, k) = m;
         u_(i, j, k, 0) = (jx - 0.5 * fl.x) / m;
         u_(i, j, k, 1) = (jy - 0.5 * fl.y) / m;
@@ -281,8 +288,14 @@ void LbmSolver::build_links() {
     count = 0;
     for (int a = 0; a < 3; ++a) {
       if (decomp_.periodic(a)) continue;
-      if (gc[a] < 0) { ++count; face = 2 * a; }
-      if (gc[a] >= N[a]) { ++count; face = 2 * a + 1; }
+      if (gc[a] < 0) {
+        ++count;
+        face = 2 * a;
+      }
+      if (gc[a] >= N[a]) {
+        ++count;
+        face = 2 * a + 1;
+      }
     }
   };
   auto is_fluid_local = [&](int i, int j, int k) {
@@ -318,8 +331,8 @@ void LbmSolver::build_links() {
             const auto& in = params_.inlet;
             const auto& out = params_.outlet;
             if (in.face == face) {
-              const double r2 = (a - in.center[0]) * (a - in.center[0]) +
-                                (b - in.center[1]) * (b - in.center[1]);
+              const double r2 =
+                  (a - in.center[0]) * (a - in.center[0]) + (b - in.center[1]) * (b - in.center[1]);
               if (r2 <= in.radius * in.radius) {
                 const double profile = in.parabolic ? 1.0 - r2 / (in.radius * in.radius) : 1.0;
                 const int axis = face / 2;
@@ -362,10 +375,9 @@ void LbmSolver::build_links() {
 
 void LbmSolver::apply_boundaries() {
   const double t = time();
-  const double u_in = params_.inlet.face >= 0
-                          ? units_.velocity_to_lattice(params_.inlet.speed) *
-                                params_.inlet.time_factor(t)
-                          : 0.0;
+  const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
+                                                    params_.inlet.time_factor(t)
+                                              : 0.0;
   double* f[32];
   for (int q = 0; q < nq_; ++q) f[q] = f_.component(q);
   for (const Link& l : links_) {
@@ -407,12 +419,17 @@ void LbmSolver::apply_boundaries() {
 
 void LbmSolver::sweep(bool macro) {
   const Vec3& bf = params_.body_force;
-  SweepArgs a{&f_, &f_next_, &force_, &rho_, &u_, solid_.data(),
-              {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
-               units_.force_density_to_lattice(bf.z)},
-              params_.trt ? Relaxation::trt(units_.tau(), params_.magic)
-                          : Relaxation::bgk(units_.tau())};
-  ForceMode fm = use_force_field_ ? ForceMode::kField
+  SweepArgs a{
+      &f_,
+      &f_next_,
+      &force_,
+      &rho_,
+      &u_,
+      solid_.data(),
+      {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
+       units_.force_density_to_lattice(bf.z)},
+      params_.trt ? Relaxation::trt(units_.tau(), params_.magic) : Relaxation::bgk(units_.tau())};
+  ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
   SweepFn fn = params_.lattice == "D3Q15" ? pick1<D3Q15>(params_.trt, fm, macro, has_solids_)
@@ -463,7 +480,8 @@ void LbmSolver::check_health(double rho_min, double rho_max) const {
         if (!std::isfinite(m) || m < rho_min || m > rho_max) {
           const Index3 gc{lo.x + i, lo.y + j, lo.z + k};
           bad = (static_cast<long long>(gc.z) * decomp_.global_cells().y + gc.y) *
-                    decomp_.global_cells().x + gc.x;
+                    decomp_.global_cells().x +
+                gc.x;
           bad_rho = m;
           break;
         }
@@ -492,9 +510,10 @@ void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {
 void LbmSolver::read_checkpoint(io::CheckpointReader& r) {
   const std::string lattice = r.read_attribute_string("lbm_lattice");
   if (lattice != params_.lattice)
-    throw core::InputError(fmt::format("checkpoint uses lattice {} but the deck says lbm.lattice = "
-                                       "{}",
-                                       lattice, params_.lattice));
+    throw core::InputError(
+        fmt::format("checkpoint uses lattice {} but the deck says lbm.lattice = "
+                    "{}",
+                    lattice, params_.lattice));
   r.read_field("lbm_populations", f_, 0, nq_);
   step_ = r.read_attribute_int("lbm_step");
   update_macroscopic();

@@ -37,14 +37,14 @@ enum class FaceType { kPeriodic, kWall, kFreeSlip, kPressure, kZeroGradient };
 
 /// \brief Velocity inlet on a disc of one face, speed ramped and optionally pulsed in time.
 struct InletPatch {
-  int face = -1;                ///< 2*axis + side, -1 = none
-  double center[2] = {0, 0};    ///< disc centre on the face [m] (tangential axes in x, y, z order)
-  double radius = 0;            ///< [m]
-  double speed = 0;             ///< peak speed into the domain [m/s]
-  bool parabolic = true;        ///< u(r) = speed (1 - r^2/R^2), else uniform
-  double ramp_time = 0;         ///< [s] smooth start, 0 = none
-  double pulse_amplitude = 0;   ///< relative amplitude of a sinusoidal pulsation
-  double pulse_period = 1;      ///< [s]
+  int face = -1;               ///< 2*axis + side, -1 = none
+  double center[2] = {0, 0};   ///< disc centre on the face [m] (tangential axes in x, y, z order)
+  double radius = 0;           ///< [m]
+  double speed = 0;            ///< peak speed into the domain [m/s]
+  bool parabolic = true;       ///< u(r) = speed (1 - r^2/R^2), else uniform
+  double ramp_time = 0;        ///< [s] smooth start, 0 = none
+  double pulse_amplitude = 0;  ///< relative amplitude of a sinusoidal pulsation
+  double pulse_period = 1;     ///< [s]
   /// \brief Time factor of the speed at time t (ramp times pulsation).
   double time_factor(double t) const;
 };
@@ -130,12 +130,12 @@ class LbmSolver {
 
  private:
   struct Link {
-    std::int64_t s;     ///< cell the population is pulled from (ghost or solid)
-    std::int64_t x;     ///< fluid cell it streams into
-    std::int64_t x2;    ///< free-slip source cell
+    std::int64_t s;      ///< cell the population is pulled from (ghost or solid)
+    std::int64_t x;      ///< fluid cell it streams into
+    std::int64_t x2;     ///< free-slip source cell
     std::int32_t q, q2;  ///< population index, free-slip source population
     std::int32_t type;   ///< FaceType or inlet (-1)
-    double coef;        ///< inlet: 6 w_q (c_q.n) profile
+    double coef;         ///< inlet: 6 w_q (c_q.n) profile
   };
   void build_links();
   void apply_boundaries();

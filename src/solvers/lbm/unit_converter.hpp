@@ -25,11 +25,15 @@ class UnitConverter {
   double force_density_to_lattice(double f) const { return f * dt_ * dt_ / (rho0_ * dx_); }
   double force_density_to_si(double f) const { return f * rho0_ * dx_ / (dt_ * dt_); }
   /// \brief Force [N] on a body to lattice force (per cell volume summed): F dt^2/(rho0 dx^4).
-  double force_to_lattice(double f) const { return f * dt_ * dt_ / (rho0_ * dx_ * dx_ * dx_ * dx_); }
+  double force_to_lattice(double f) const {
+    return f * dt_ * dt_ / (rho0_ * dx_ * dx_ * dx_ * dx_);
+  }
   double force_to_si(double f) const { return f * rho0_ * dx_ * dx_ * dx_ * dx_ / (dt_ * dt_); }
   double density_to_si(double rho) const { return rho * rho0_; }
   /// \brief Pressure deviation [Pa] from lattice density: c_s^2 (rho - 1) rho0 dx^2/dt^2.
-  double pressure_to_si(double rho) const { return (rho - 1.0) / 3.0 * rho0_ * dx_ * dx_ / (dt_ * dt_); }
+  double pressure_to_si(double rho) const {
+    return (rho - 1.0) / 3.0 * rho0_ * dx_ * dx_ / (dt_ * dt_);
+  }
   /// \brief Multi-line summary printed at start-up.
   std::string summary() const;
 

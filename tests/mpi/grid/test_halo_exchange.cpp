@@ -9,7 +9,9 @@ using namespace biota::grid;
 
 namespace {
 // A value that identifies (global cell, component) uniquely.
-double tag(const Index3& g, int c) { return ((c * 1000.0 + g.z) * 1000.0 + g.y) * 1000.0 + g.x; }
+double tag(const Index3& g, int c) {
+  return ((c * 1000.0 + g.z) * 1000.0 + g.y) * 1000.0 + g.x;
+}
 
 void check_exchange(Index3 n, std::array<bool, 3> periodic, int ghosts) {
   Decomposition d(MPI_COMM_WORLD, n, periodic);
@@ -38,9 +40,15 @@ void check_exchange(Index3 n, std::array<bool, 3> periodic, int ghosts) {
 }
 }  // namespace
 
-TEST(HaloExchange, FillsFacesEdgesAndCornersPeriodic) { check_exchange({10, 9, 8}, {true, true, true}, 1); }
-TEST(HaloExchange, FillsFacesEdgesAndCornersMixed) { check_exchange({10, 9, 8}, {true, false, true}, 1); }
-TEST(HaloExchange, TwoGhostLayers) { check_exchange({12, 11, 10}, {true, true, false}, 2); }
+TEST(HaloExchange, FillsFacesEdgesAndCornersPeriodic) {
+  check_exchange({10, 9, 8}, {true, true, true}, 1);
+}
+TEST(HaloExchange, FillsFacesEdgesAndCornersMixed) {
+  check_exchange({10, 9, 8}, {true, false, true}, 1);
+}
+TEST(HaloExchange, TwoGhostLayers) {
+  check_exchange({12, 11, 10}, {true, true, false}, 2);
+}
 
 TEST(HaloExchange, SelectedComponentsOnly) {
   Decomposition d(MPI_COMM_WORLD, {8, 8, 8}, {true, true, true});
@@ -49,7 +57,9 @@ TEST(HaloExchange, SelectedComponentsOnly) {
     for (int j = 0; j < d.local_cells().y; ++j)
       for (int i = 0; i < d.local_cells().x; ++i) f(i, j, k, 0) = f(i, j, k, 1) = 1.0;
   FaceComponents faces;
-  for (int a = 0; a < 3; ++a) faces[a] = {std::vector<int>{0}, std::vector<int>{1}};  // low ghosts get comp 0, high get comp 1
+  for (int a = 0; a < 3; ++a)
+    faces[a] = {std::vector<int>{0},
+                std::vector<int>{1}};  // low ghosts get comp 0, high get comp 1
   HaloExchange halo(d, f, faces);
   halo.exchange();
   EXPECT_EQ(f(-1, 0, 0, 0), 1.0);

@@ -11,7 +11,9 @@
 using namespace biota;
 
 namespace {
-double value(const grid::Index3& g, int c) { return c * 1e6 + g.z * 1e4 + g.y * 1e2 + g.x + 0.25; }
+double value(const grid::Index3& g, int c) {
+  return c * 1e6 + g.z * 1e4 + g.y * 1e2 + g.x + 0.25;
+}
 std::string tmp_dir() {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);

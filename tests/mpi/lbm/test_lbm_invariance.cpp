@@ -23,7 +23,7 @@ LbmParams tank_like(const std::string& lattice, bool trt) {
   p.dx = 0.01;
   p.dt = 1.0 / 600;
   p.viscosity = 0.033 / 3 * p.dx * p.dx / p.dt;
-  p.faces = {FaceType::kWall, FaceType::kWall, FaceType::kPeriodic,
+  p.faces = {FaceType::kWall,     FaceType::kWall, FaceType::kPeriodic,
              FaceType::kPeriodic, FaceType::kWall, FaceType::kFreeSlip};
   p.inlet.face = 4;
   p.inlet.center[0] = 0.11;
@@ -95,7 +95,8 @@ TEST_P(Invariance, SameBitsOnOneAndManyRanks) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const std::string base = dir() + "/" + lattice + (trt ? "_trt" : "_bgk") + "_np" + std::to_string(size);
+  const std::string base =
+      dir() + "/" + lattice + (trt ? "_trt" : "_bgk") + "_np" + std::to_string(size);
   const int N = 40;
   std::vector<double> serial;
   if (rank == 0) serial = run_serial(p, 2 * N, base + "_serial.h5");

@@ -45,7 +45,8 @@ double poiseuille_error(const std::string& lattice, bool trt, double magic, int 
   grid::Decomposition d(MPI_COMM_WORLD, p.cells, p.periodic(), {1, 1, 0});
   LbmSolver lbm(d, p);
   // 30 e-foldings of the slowest mode H^2 / (pi^2 nu): residual transient e^-30 ~ 1e-13.
-  const int steps = static_cast<int>(30.0 * H * H / (std::numbers::pi * std::numbers::pi * p.viscosity));
+  const int steps =
+      static_cast<int>(30.0 * H * H / (std::numbers::pi * std::numbers::pi * p.viscosity));
   for (int s = 0; s < steps; ++s) lbm.step(false);
   lbm.update_macroscopic();
   double num = 0, den = 0;
@@ -73,7 +74,7 @@ TEST(Poiseuille, BgkConvergesAtSecondOrder) {
     RecordProperty(std::string(lattice) + "_bgk_errors",
                    std::to_string(e8) + " " + std::to_string(e16) + " " + std::to_string(e32));
     report("%s BGK Poiseuille L2 error: H=8 %.3e  H=16 %.3e  H=32 %.3e  ratios %.3f %.3f\n",
-                lattice, e8, e16, e32, e8 / e16, e16 / e32);
+           lattice, e8, e16, e32, e8 / e16, e16 / e32);
     EXPECT_LT(e32, 1e-3);
     EXPECT_GE(e8 / e16, 3.5);
     EXPECT_GE(e16 / e32, 3.5);
@@ -86,7 +87,7 @@ TEST(Poiseuille, TrtConvergesAtSecondOrderAndIsExactWithMagicThreeSixteenths) {
     const double e16 = poiseuille_error(lattice, true, 0.5, 16, 0.9);
     const double e32 = poiseuille_error(lattice, true, 0.5, 32, 0.9);
     report("%s TRT(1/2) Poiseuille L2 error: H=8 %.3e  H=16 %.3e  H=32 %.3e  ratios %.3f %.3f\n",
-                lattice, e8, e16, e32, e8 / e16, e16 / e32);
+           lattice, e8, e16, e32, e8 / e16, e16 / e32);
     EXPECT_GE(e8 / e16, 3.5);
     EXPECT_GE(e16 / e32, 3.5);
     const double exact = poiseuille_error(lattice, true, 3.0 / 16.0, 8, 0.9);
@@ -119,20 +120,25 @@ TEST(TaylorGreen, DecayRateWithinOnePercentOfTheory) {
       MPI_Allreduce(&e, &g, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
       return g;
     };
-    // Least-squares slope of ln E over t in [50, 400] (after the initial non-equilibrium transient).
+    // Least-squares slope of ln E over t in [50, 400] (after the initial non-equilibrium
+    // transient).
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int n = 0;
     for (int s = 0; s <= 400; ++s) {
       if (s >= 50 && s % 10 == 0) {
         const double t = s, y = std::log(energy());
-        sx += t; sy += y; sxx += t * t; sxy += t * y; ++n;
+        sx += t;
+        sy += y;
+        sxx += t * t;
+        sxy += t * y;
+        ++n;
       }
       lbm.step(false);
     }
     const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
     const double theory = -4.0 * p.viscosity * k * k;
     report("%s Taylor-Green: energy decay rate %.6e, theory %.6e, rel. error %.3e\n", lattice,
-                slope, theory, std::fabs(slope / theory - 1));
+           slope, theory, std::fabs(slope / theory - 1));
     EXPECT_NEAR(slope / theory, 1.0, 0.01);
   }
 }
@@ -153,7 +159,8 @@ TEST(MassConservation, ClosedBoxAndPeriodicBox) {
     const double m0 = lbm.total_mass();
     for (int s = 0; s < 500; ++s) lbm.step(false);
     const double rel = std::fabs(lbm.total_mass() - m0) / m0;
-    report("%s box: relative mass change after 500 steps %.3e\n", closed ? "closed" : "periodic", rel);
+    report("%s box: relative mass change after 500 steps %.3e\n", closed ? "closed" : "periodic",
+           rel);
     EXPECT_LE(rel, 1e-12);
   }
 }
@@ -163,7 +170,7 @@ TEST(PressureOutlet, QuiescentTankStaysAtRestForLongRuns) {
   // stay at rest. (An equilibrium outlet fed by the cell's own velocity amplified round-off at the
   // outlet/wall corners and blew up after ~4e4 steps; anti-bounce-back does not.)
   auto p = lattice_params("D3Q15", false, 0, {10, 9, 8}, 0.533);
-  p.faces = {FaceType::kWall, FaceType::kWall, FaceType::kWall,
+  p.faces = {FaceType::kWall, FaceType::kWall,     FaceType::kWall,
              FaceType::kWall, FaceType::kPressure, FaceType::kFreeSlip};
   grid::Decomposition d(MPI_COMM_WORLD, p.cells, p.periodic());
   LbmSolver lbm(d, p);
