@@ -137,69 +137,74 @@ void MacSolver::project_initial() {
 
 // Ghost layers (and prescribed boundary faces) of bounded axes. Axis by axis over the full
 // ghosted range of the other axes, after the halo exchange, so edges and corners are consistent.
+template <class F>
+void MacSolver::for_each_face_line(const grid::Field<Real>& field, int a, F&& f) const {
+  const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+  for (int y = -kGhosts; y < n_[b2] + kGhosts; ++y)
+    for (int x = -kGhosts; x < n_[b1] + kGhosts; ++x) {
+      int loc[3];
+      loc[a] = 0;
+      loc[b1] = x;
+      loc[b2] = y;
+      f(loc, field.index(loc[0], loc[1], loc[2]));
+    }
+}
+
 void MacSolver::apply_velocity_bc(grid::Field<Real>& u) {
   auto t = timers_.scope("wind.boundary");
-  const int g = kGhosts;
   const std::ptrdiff_t st[3] = {1, u.stride_y(), u.stride_z()};
   for (int a = 0; a < 3; ++a) {
     for (int s = 0; s < 2; ++s) {
       if (!(s == 0 ? bounded_low(a) : bounded_high(a))) continue;
       const BoundaryType bt = type(a, s);
       const Vec3 w = p_.boundaries[a][s].wall_velocity;
-      const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
       const std::ptrdiff_t sa = st[a];
       const int na = n_[a];
-      for (int y = -g; y < n_[b2] + g; ++y)
-        for (int x = -g; x < n_[b1] + g; ++x) {
-          int loc[3];
-          loc[a] = 0;
-          loc[b1] = x;
-          loc[b2] = y;
-          const auto q0 = u.index(loc[0], loc[1], loc[2]);
-          for (int c = 0; c < 3; ++c) {
-            Real* L = u.component(c) + q0;  // L[t * sa] = value at index t along a
-            if (c == a) {                   // normal component: boundary face, then beyond
-              const std::ptrdiff_t f = s == 0 ? 0 : na * sa;  // boundary face
-              if (bt == BoundaryType::kInflow) {
-                loc[a] = s == 0 ? 0 : na;
-                L[f] = inflow_normal(a, s, loc[0], loc[1], loc[2]);
-              } else if (is_wall(bt)) {
-                L[f] = 0;
-              }
-              const std::ptrdiff_t dir = s == 0 ? -sa : sa;  // outward
-              if (is_outflow(bt)) {
-                L[f + dir] = L[f];
-                if (s == 0) L[f + 2 * dir] = L[f];
-              } else {
-                L[f + dir] = 2 * L[f] - L[f - dir];
-                if (s == 0) L[f + 2 * dir] = 2 * L[f] - L[f - 2 * dir];
-              }
-            } else {  // tangential: ghosts mirror the first interior layers
-              const std::ptrdiff_t in0 = s == 0 ? 0 : (na - 1) * sa;
-              const std::ptrdiff_t in1 = s == 0 ? sa : (na - 2) * sa;
-              const std::ptrdiff_t gh0 = s == 0 ? -sa : na * sa;
-              const std::ptrdiff_t gh1 = s == 0 ? -2 * sa : (na + 1) * sa;
-              switch (bt) {
-                case BoundaryType::kNoSlip:
-                  L[gh0] = 2 * w[c] - L[in0];
-                  L[gh1] = 2 * w[c] - L[in1];
-                  break;
-                case BoundaryType::kInflow:
-                  L[gh0] = -L[in0];
-                  L[gh1] = -L[in1];
-                  break;
-                case BoundaryType::kFreeSlip:
-                case BoundaryType::kGround:  // stress from the wall model, see compute_rhs
-                  L[gh0] = L[in0];
-                  L[gh1] = L[in1];
-                  break;
-                default:  // outflow: zero gradient
-                  L[gh0] = L[in0];
-                  L[gh1] = L[in0];
-              }
+      for_each_face_line(u, a, [&](int* loc, std::ptrdiff_t q0) {
+        for (int c = 0; c < 3; ++c) {
+          Real* L = u.component(c) + q0;  // L[t * sa] = value at index t along a
+          if (c == a) {                   // normal component: boundary face, then beyond
+            const std::ptrdiff_t f = s == 0 ? 0 : na * sa;  // boundary face
+            if (bt == BoundaryType::kInflow) {
+              loc[a] = s == 0 ? 0 : na;
+              L[f] = inflow_normal(a, s, loc[0], loc[1], loc[2]);
+            } else if (is_wall(bt)) {
+              L[f] = 0;
+            }
+            const std::ptrdiff_t dir = s == 0 ? -sa : sa;  // outward
+            if (is_outflow(bt)) {
+              L[f + dir] = L[f];
+              if (s == 0) L[f + 2 * dir] = L[f];
+            } else {
+              L[f + dir] = 2 * L[f] - L[f - dir];
+              if (s == 0) L[f + 2 * dir] = 2 * L[f] - L[f - 2 * dir];
+            }
+          } else {  // tangential: ghosts mirror the first interior layers
+            const std::ptrdiff_t in0 = s == 0 ? 0 : (na - 1) * sa;
+            const std::ptrdiff_t in1 = s == 0 ? sa : (na - 2) * sa;
+            const std::ptrdiff_t gh0 = s == 0 ? -sa : na * sa;
+            const std::ptrdiff_t gh1 = s == 0 ? -2 * sa : (na + 1) * sa;
+            switch (bt) {
+              case BoundaryType::kNoSlip:
+                L[gh0] = 2 * w[c] - L[in0];
+                L[gh1] = 2 * w[c] - L[in1];
+                break;
+              case BoundaryType::kInflow:
+                L[gh0] = -L[in0];
+                L[gh1] = -L[in1];
+                break;
+              case BoundaryType::kFreeSlip:
+              case BoundaryType::kGround:  // stress from the wall model, see compute_rhs
+                L[gh0] = L[in0];
+                L[gh1] = L[in1];
+                break;
+              default:  // outflow: zero gradient
+                L[gh0] = L[in0];
+                L[gh1] = L[in0];
             }
           }
         }
+      });
     }
   }
 }
@@ -210,24 +215,18 @@ void MacSolver::apply_pressure_bc(grid::Field<Real>& p) {
     for (int s = 0; s < 2; ++s) {
       if (!(s == 0 ? bounded_low(a) : bounded_high(a))) continue;
       const Real sign = is_outflow(type(a, s)) ? -1.0 : 1.0;  // p = 0 on the face, or dp/dn = 0
-      const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
       const std::ptrdiff_t sa = st[a];
       const int na = n_[a];
-      for (int y = -kGhosts; y < n_[b2] + kGhosts; ++y)
-        for (int x = -kGhosts; x < n_[b1] + kGhosts; ++x) {
-          int loc[3];
-          loc[a] = 0;
-          loc[b1] = x;
-          loc[b2] = y;
-          Real* L = p.component(0) + p.index(loc[0], loc[1], loc[2]);
-          if (s == 0) {
-            L[-sa] = sign * L[0];
-            L[-2 * sa] = sign * L[sa];
-          } else {
-            L[na * sa] = sign * L[(na - 1) * sa];
-            L[(na + 1) * sa] = sign * L[(na - 2) * sa];
-          }
+      for_each_face_line(p, a, [&](int*, std::ptrdiff_t q0) {
+        Real* L = p.component(0) + q0;
+        if (s == 0) {
+          L[-sa] = sign * L[0];
+          L[-2 * sa] = sign * L[sa];
+        } else {
+          L[na * sa] = sign * L[(na - 1) * sa];
+          L[(na + 1) * sa] = sign * L[(na - 2) * sa];
         }
+      });
     }
 }
 

@@ -133,6 +133,10 @@ class MacSolver {
                grid::Field<Real>& out);
   void project(grid::Field<Real>& u, Real dt_stage);
   void exchange_velocity(grid::Field<Real>& u);
+  /// \brief Call f(loc, index) for every line of cells normal to axis `a` (tangential ghost rows
+  /// included); `loc` is the line's local cell with loc[a] = 0, `index` its linear index.
+  template <class F>
+  void for_each_face_line(const grid::Field<Real>& field, int a, F&& f) const;
   void apply_velocity_bc(grid::Field<Real>& u);
   void apply_pressure_bc(grid::Field<Real>& p);
   Real inflow_normal(int axis, int side, int i, int j, int k) const;
