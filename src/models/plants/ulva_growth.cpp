@@ -151,13 +151,8 @@ bool place(core::Rng& rng, const GrowthParams& gp, const BudHash& hash,
 
 Population grow_general(const GrowthParams& gp, const std::vector<Vec3>& seeds);
 
-}  // namespace
-
-Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seeds) {
-  if (gp.general) return grow_general(gp, seeds);
-  Population pop;
-  BudHash hash(gp.personal_radius);
-  std::vector<Tip> tips;
+// The seeds are the first buds (id = plant = seed index) and occupy personal space too.
+void plant_seeds(const std::vector<Vec3>& seeds, Population& pop, BudHash& hash) {
   for (std::size_t j = 0; j < seeds.size(); ++j) {
     Bud b;
     b.id = j;
@@ -166,6 +161,16 @@ Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seed
     pop.buds.push_back(b);
     hash.insert(b.pos, j);
   }
+}
+
+}  // namespace
+
+Population grow_population(const GrowthParams& gp, const std::vector<Vec3>& seeds) {
+  if (gp.general) return grow_general(gp, seeds);
+  Population pop;
+  BudHash hash(gp.personal_radius);
+  std::vector<Tip> tips;
+  plant_seeds(seeds, pop, hash);
   // Step 1: growth units from each seed, each created with probability P_I, random directions.
   for (std::size_t j = 0; j < seeds.size(); ++j) {
     core::Rng rng(gp.seed, j, 0, core::RngPurpose::kPlacement);
@@ -242,13 +247,8 @@ Population grow_general(const GrowthParams& gp, const std::vector<Vec3>& seeds) 
   Population pop;
   BudHash hash(gp.personal_radius);
   std::vector<Apex> apices;
+  plant_seeds(seeds, pop, hash);
   for (std::size_t j = 0; j < seeds.size(); ++j) {
-    Bud b;
-    b.id = j;
-    b.plant = static_cast<int>(j);
-    b.pos = seeds[j];
-    pop.buds.push_back(b);
-    hash.insert(b.pos, j);
     core::Rng rng(gp.seed, j, 0, core::RngPurpose::kPlacement);
     for (int k = 0; k < gp.initial_branches; ++k)
       apices.push_back(
