@@ -275,9 +275,8 @@ void LbmSolver::set_solid(const std::function<bool(const Index3&)>& is_solid) {
         solid_[f_.index(i, j, k)] = s;
         if (s && i >= 0 && j >= 0 && k >= 0 && i < n.x && j < n.y && k < n.z) has_solids_ = true;
       }
-  int any = has_solids_, global = 0;
-  MPI_Allreduce(&any, &global, 1, MPI_INT, MPI_MAX, decomp_.comm());
-  has_solids_ = has_solids_ || global;  // sweep variant only matters locally, links need all
+  // has_solids_ picks the sweep variant for this rank's owned cells only; the boundary links
+  // (built from the ghosted mask) handle solids next to the rank boundary.
   build_links();
 }
 

@@ -104,8 +104,8 @@ class LbmSolver {
   const grid::Field<Real>& velocity() const { return u_; }
   /// \brief Recompute density and velocity from the populations (e.g. after initialize/restart).
   void update_macroscopic();
-  /// \brief Solid mask (1 = solid, owned + ghost cells, ghosted linear index); call
-  /// `set_solid(...)` then `rebuild_boundaries()`.
+  /// \brief Mark solid cells (`is_solid_global` of a global, wrapped cell index) on owned and
+  /// ghost cells and rebuild the bounce-back links. Local: no communication.
   void set_solid(const std::function<bool(const Index3&)>& is_solid_global);
 
   const UnitConverter& units() const { return units_; }
