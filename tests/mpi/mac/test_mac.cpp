@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 
+#include "gather_fields.hpp"
 #include "linalg/petsc_environment.hpp"
 #include "solvers/mac/mac_solver.hpp"
 
@@ -53,50 +54,6 @@ std::array<bool, 3> periodic_of(const MacParams& p) {
   std::array<bool, 3> per;
   for (int a = 0; a < 3; ++a) per[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
   return per;
-}
-
-/// Global cell arrays (velocity xyz, pressure) gathered to rank 0 of `comm`, x fastest.
-std::vector<double> gather(const MacSolver& s, MPI_Comm comm) {
-  const auto& d = s.decomposition();
-  const auto N = d.global_cells();
-  auto v = s.cell_velocity();
-  auto pr = s.cell_pressure();
-  std::vector<double> local;
-  const auto b = d.local_box();
-  local.insert(local.end(), {double(b.lo.x), double(b.lo.y), double(b.lo.z), double(b.hi.x),
-                             double(b.hi.y), double(b.hi.z)});
-  local.insert(local.end(), v.begin(), v.end());
-  local.insert(local.end(), pr.begin(), pr.end());
-  int size, rank, n = static_cast<int>(local.size());
-  MPI_Comm_size(comm, &size);
-  MPI_Comm_rank(comm, &rank);
-  std::vector<int> counts(size), displs(size);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  int tot = 0;
-  for (int r = 0; r < size; ++r) displs[r] = tot, tot += counts[r];
-  std::vector<double> all(rank == 0 ? tot : 0);
-  MPI_Gatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
-              comm);
-  std::vector<double> out;
-  if (rank != 0) return out;
-  const long long cells = N.product();
-  out.assign(4 * cells, 0);
-  for (int r = 0; r < size; ++r) {
-    const double* q = all.data() + displs[r];
-    const int lo[3] = {int(q[0]), int(q[1]), int(q[2])}, hi[3] = {int(q[3]), int(q[4]), int(q[5])};
-    const long long m = 1LL * (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    const double* vel = q + 6;
-    const double* pp = vel + 3 * m;
-    long long t = 0;
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        for (int i = lo[0]; i < hi[0]; ++i, ++t) {
-          const long long g = (1LL * k * N.y + j) * N.x + i;
-          for (int c = 0; c < 3; ++c) out[3 * g + c] = vel[3 * t + c];
-          out[3 * cells + g] = pp[t];
-        }
-  }
-  return out;
 }
 
 double max_rel_diff(const std::vector<double>& a, const std::vector<double>& b, long long cells) {
@@ -156,7 +113,7 @@ TEST(Mac, SameFieldsOnOneRank) {
   MacSolver s(d, p, t);
   s.project_initial();
   for (int i = 0; i < steps; ++i) s.step();
-  auto many = gather(s, MPI_COMM_WORLD);
+  auto many = gather_global_fields(s, MPI_COMM_WORLD);
   // The same run on rank 0 alone.
   MPI_Comm solo;
   MPI_Comm_split(MPI_COMM_WORLD, world_rank() == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
@@ -166,7 +123,7 @@ TEST(Mac, SameFieldsOnOneRank) {
       MacSolver s1(d1, p, t);
       s1.project_initial();
       for (int i = 0; i < steps; ++i) s1.step();
-      auto one = gather(s1, solo);
+      auto one = gather_global_fields(s1, solo);
       const double diff = max_rel_diff(many, one, p.cells.product());
       int size;
       MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -219,7 +176,7 @@ TEST(Mac, RestartContinues) {
   for (int i = 0; i < 5; ++i) b.step();
   EXPECT_EQ(b.step_index(), 10);
   EXPECT_NEAR(b.time(), a.time(), 1e-12 * a.time());
-  auto ga = gather(a, MPI_COMM_WORLD), gb = gather(b, MPI_COMM_WORLD);
+  auto ga = gather_global_fields(a, MPI_COMM_WORLD), gb = gather_global_fields(b, MPI_COMM_WORLD);
   if (world_rank() == 0) {
     const double diff = max_rel_diff(gb, ga, p.cells.product());
     std::printf("restart: max relative difference %.3e\n", diff);

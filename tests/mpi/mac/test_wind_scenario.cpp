@@ -9,6 +9,7 @@
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/timers.hpp"
+#include "gather_fields.hpp"
 #include "linalg/petsc_environment.hpp"
 #include "scenarios/wind_scenario.hpp"
 
@@ -62,47 +63,6 @@ void expect_one_line_naming(const std::string& msg, const std::string& what) {
   int rank;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) std::printf("  error: %s\n", msg.c_str());
-}
-
-/// Global cell velocity (xyz) and pressure on rank 0 of `comm`, x fastest.
-std::vector<double> gather_global(scenarios::WindScenario& w, MPI_Comm comm) {
-  const auto& s = w.solver();
-  const auto& d = s.decomposition();
-  const auto N = d.global_cells();
-  const auto b = d.local_box();
-  std::vector<double> local{double(b.lo.x), double(b.lo.y), double(b.lo.z),
-                            double(b.hi.x), double(b.hi.y), double(b.hi.z)};
-  auto v = s.cell_velocity();
-  auto p = s.cell_pressure();
-  local.insert(local.end(), v.begin(), v.end());
-  local.insert(local.end(), p.begin(), p.end());
-  int size, rank, n = static_cast<int>(local.size());
-  MPI_Comm_size(comm, &size);
-  MPI_Comm_rank(comm, &rank);
-  std::vector<int> counts(size), displs(size);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  int tot = 0;
-  for (int r = 0; r < size; ++r) displs[r] = tot, tot += counts[r];
-  std::vector<double> all(rank == 0 ? tot : 0), out;
-  MPI_Gatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
-              comm);
-  if (rank != 0) return out;
-  const long long cells = N.product();
-  out.assign(4 * cells, 0);
-  for (int r = 0; r < size; ++r) {
-    const double* q = all.data() + displs[r];
-    const int lo[3] = {int(q[0]), int(q[1]), int(q[2])}, hi[3] = {int(q[3]), int(q[4]), int(q[5])};
-    const long long m = 1LL * (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    long long t = 0;
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        for (int i = lo[0]; i < hi[0]; ++i, ++t) {
-          const long long g = (1LL * k * N.y + j) * N.x + i;
-          for (int c = 0; c < 3; ++c) out[3 * g + c] = q[6 + 3 * t + c];
-          out[3 * cells + g] = q[6 + 3 * m + t];
-        }
-  }
-  return out;
 }
 
 std::vector<double> gather_velocity(scenarios::WindScenario& w) {
@@ -190,7 +150,7 @@ TEST(WindScenario, CheckpointReadOnOneRankContinues) {
     for (int i = 0; i < 3; ++i) w.step();
     w.write_checkpoint(path);
     for (int i = 0; i < 3; ++i) w.step();
-    many = gather_global(w, MPI_COMM_WORLD);
+    many = gather_global_fields(w.solver(), MPI_COMM_WORLD);
   }
   MPI_Comm solo;
   MPI_Comm_split(MPI_COMM_WORLD, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
@@ -200,7 +160,7 @@ TEST(WindScenario, CheckpointReadOnOneRankContinues) {
       scenarios::WindScenario w(ctx);
       w.read_checkpoint(path);
       for (int i = 0; i < 3; ++i) w.step();
-      auto one = gather_global(w, solo);
+      auto one = gather_global_fields(w.solver(), solo);
       ASSERT_EQ(one.size(), many.size());
       double d = 0, m = 0;
       for (std::size_t i = 0; i < one.size(); ++i)
