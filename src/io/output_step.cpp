@@ -13,6 +13,7 @@
 
 #include "io/hdf5_util.hpp"
 #include "io/pvd_series.hpp"
+#include "io/xdmf_attribute.hpp"
 
 namespace biota::io {
 
@@ -147,12 +148,9 @@ void OutputStep::write() {
                        dx_);
     out << "</Geometry>\n";
     for (const auto& [name, a] : arrays_) {
-      out << fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", name,
-                         a.ncomp == 1 ? "Scalar" : "Vector");
-      out << fmt::format(
-          "<DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} {} {}{}\">"
-          "{}:/fields/{}</DataItem>\n</Attribute>\n",
-          g.z, g.y, g.x, a.ncomp > 1 ? " 3" : "", h5name, name);
+      out << xdmf_attribute(name, a.ncomp > 1, "Cell",
+                            fmt::format("{} {} {}{}", g.z, g.y, g.x, a.ncomp > 1 ? " 3" : ""),
+                            h5name + ":/fields/" + name);
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";
   }

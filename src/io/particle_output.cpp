@@ -18,6 +18,7 @@
 
 #include "io/hdf5_util.hpp"
 #include "io/pvd_series.hpp"
+#include "io/xdmf_attribute.hpp"
 
 namespace biota::io {
 
@@ -225,17 +226,10 @@ void ParticleOutput::write(const ParticleData& d) {
           "</Attribute>\n",
           p_tot, h5);
       for (const auto& [name, v] : d.scalars)
-        out << fmt::format(
-            "<Attribute Name=\"{2}\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
-            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/{2}"
-            "</DataItem></Attribute>\n",
-            p_tot, h5, name);
+        out << xdmf_attribute(name, false, "Node", std::to_string(p_tot), h5 + ":/points/" + name);
       for (const auto& [name, v] : d.vectors)
-        out << fmt::format(
-            "<Attribute Name=\"{2}\" AttributeType=\"Vector\" Center=\"Node\"><DataItem "
-            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0} 3\">"
-            "{1}:/points/{2}</DataItem></Attribute>\n",
-            p_tot, h5, name);
+        out << xdmf_attribute(name, true, "Node", std::to_string(p_tot) + " 3",
+                              h5 + ":/points/" + name);
       out << "</Grid>\n";
     }
     if (l_tot > 0) {
@@ -248,11 +242,7 @@ void ParticleOutput::write(const ParticleData& d) {
           "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
           l_tot, h5, 2 * l_tot);
       for (const auto& [name, v] : d.line_scalars)
-        out << fmt::format(
-            "<Attribute Name=\"{2}\" AttributeType=\"Scalar\" Center=\"Cell\"><DataItem "
-            "Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{0}\">{1}:/lines/{2}"
-            "</DataItem></Attribute>\n",
-            l_tot, h5, name);
+        out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";
