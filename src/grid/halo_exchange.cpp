@@ -40,6 +40,7 @@ void HaloExchange::for_slab(int axis, int start, const std::vector<int>& comps, 
 HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field,
                            FaceComponents faces)
     : decomp_(decomp), field_(&field), faces_(std::move(faces)) {
+  for (int c = 0; c < field.ncomp(); ++c) all_components_.push_back(c);
   const int g = field.ghosts();
   for (int axis = 0; axis < 3; ++axis) {
     Pass& p = passes_[axis];
@@ -108,8 +109,7 @@ void HaloExchange::exchange() {
 
 void HaloExchange::reverse_sum() {
   const int g = field_->ghosts();
-  std::vector<int> all(field_->ncomp());
-  for (int c = 0; c < field_->ncomp(); ++c) all[c] = c;
+  const std::vector<int>& all = all_components_;
   for (int axis = 2; axis >= 0; --axis) {
     Pass& p = passes_[axis];
     const int n = field_->cells()[axis];

@@ -58,6 +58,7 @@ class HaloExchange {
   const Decomposition& decomp_;
   Field<core::Real>* field_;
   FaceComponents faces_;
+  std::vector<int> all_components_;  ///< 0..ncomp-1, what reverse_sum carries
   std::array<Pass, 3> passes_;
 };
 
