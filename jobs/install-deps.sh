@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   paraview-dev paraview python3-paraview xvfb xauth
   clang-format
+  libembree-dev libnanoflann-dev libtinyobjloader-dev libstb-dev libpng-dev libxsimd-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
