@@ -8,8 +8,8 @@
 
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "solvers/lbm/aa_sweep.hpp"
 #include "solvers/lbm/lattice.hpp"
-#include "solvers/lbm/stream_collide.hpp"
 
 namespace biota::solvers::lbm {
 namespace {
@@ -32,28 +32,35 @@ void copy_lattice(std::vector<std::array<int, 3>>& c, std::vector<double>& w,
   opp.assign(L::opp.begin(), L::opp.end());
 }
 
-using SweepFn = void (*)(const SweepArgs&);
+using SweepFn = void (*)(const AaSweepArgs&);
 
-template <class L, bool T, ForceMode F>
-SweepFn pick3(bool macro, bool solids) {
+template <class L, bool T, ForceMode F, bool P>
+SweepFn pick4(bool macro, bool solids) {
   if (macro)
-    return solids ? stream_collide<L, T, F, true, true> : stream_collide<L, T, F, true, false>;
-  return solids ? stream_collide<L, T, F, false, true> : stream_collide<L, T, F, false, false>;
+    return solids ? aa_stream_collide<L, T, F, true, true, P>
+                  : aa_stream_collide<L, T, F, true, false, P>;
+  return solids ? aa_stream_collide<L, T, F, false, true, P>
+                : aa_stream_collide<L, T, F, false, false, P>;
+}
+template <class L, bool T, ForceMode F>
+SweepFn pick3(bool from_post, bool macro, bool solids) {
+  return from_post ? pick4<L, T, F, true>(macro, solids) : pick4<L, T, F, false>(macro, solids);
 }
 template <class L, bool T>
-SweepFn pick2(ForceMode f, bool macro, bool solids) {
+SweepFn pick2(ForceMode f, bool from_post, bool macro, bool solids) {
   switch (f) {
     case ForceMode::kNone:
-      return pick3<L, T, ForceMode::kNone>(macro, solids);
+      return pick3<L, T, ForceMode::kNone>(from_post, macro, solids);
     case ForceMode::kUniform:
-      return pick3<L, T, ForceMode::kUniform>(macro, solids);
+      return pick3<L, T, ForceMode::kUniform>(from_post, macro, solids);
     default:
-      return pick3<L, T, ForceMode::kField>(macro, solids);
+      return pick3<L, T, ForceMode::kField>(from_post, macro, solids);
   }
 }
 template <class L>
-SweepFn pick1(bool trt, ForceMode f, bool macro, bool solids) {
-  return trt ? pick2<L, true>(f, macro, solids) : pick2<L, false>(f, macro, solids);
+SweepFn pick1(bool trt, ForceMode f, bool from_post, bool macro, bool solids) {
+  return trt ? pick2<L, true>(f, from_post, macro, solids)
+             : pick2<L, false>(f, from_post, macro, solids);
 }
 
 }  // namespace
@@ -194,20 +201,24 @@ LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
   nq_ = static_cast<int>(c_.size());
   const Index3 n = decomp.local_cells();
   f_ = grid::Field<Real>(n, nq_, 1);
-  f_next_ = grid::Field<Real>(n, nq_, 1);
+  for (int q = 0; q < nq_; ++q)
+    offset_.push_back(c_[q][0] + c_[q][1] * f_.stride_y() + c_[q][2] * f_.stride_z());
   force_ = grid::Field<Real>(n, 3, 1);
   rho_ = grid::Field<Real>(n, 1, 1, 1.0);
   u_ = grid::Field<Real>(n, 3, 1);
   solid_.assign(f_.plane_size(), 0);
-  // Only the populations that stream into the neighbour cross a face: the low ghost layer of
-  // axis a needs those with c_a = +1, the high one those with c_a = -1.
-  grid::FaceComponents faces;
+  // Only the populations that stream into the neighbour cross a face. Before a neighbour step the
+  // low ghost layer of axis a needs those with c_a = +1, the high one those with c_a = -1; in the
+  // post state population q sits in slot opp(q). After it, the populations with c_a = -1 that
+  // were streamed into my low ghosts (c_a = +1: high ghosts) go to the neighbour, slot q.
+  grid::FaceComponents pull, push;
   for (int a = 0; a < 3; ++a)
     for (int q = 0; q < nq_; ++q) {
-      if (c_[q][a] == 1) faces[a][0].push_back(q);
-      if (c_[q][a] == -1) faces[a][1].push_back(q);
+      if (c_[q][a] == 1) pull[a][0].push_back(opp_[q]), push[a][1].push_back(q);
+      if (c_[q][a] == -1) pull[a][1].push_back(opp_[q]), push[a][0].push_back(q);
     }
-  halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, faces);
+  halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, pull);
+  fold_ = std::make_unique<grid::GhostFold>(decomp, f_, push);
   halo_u_ = std::make_unique<grid::HaloExchange>(decomp, u_);
   initialize([](const Index3&, double& rho, Vec3& u) {
     rho = 1.0;
@@ -229,14 +240,37 @@ void LbmSolver::initialize(const std::function<void(const Index3&, double&, Vec3
         const double uu = dot(u, u);
         for (int q = 0; q < nq_; ++q) {
           const double cu = c_[q][0] * u.x + c_[q][1] * u.y + c_[q][2] * u.z;
-          f_(i, j, k, q) = w_[q] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
+          f_(i, j, k, opp_[q]) = w_[q] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
         }
       }
+  streamed_ = false;  // the post state: population q of x in slot opp(q) of x
   update_macroscopic();
+}
+
+void LbmSolver::post_view(const double* post[32]) const {
+  for (int q = 0; q < nq_; ++q)
+    post[q] = streamed_ ? f_.component(q) + offset_[q] : f_.component(opp_[q]);
+}
+
+grid::Field<Real> LbmSolver::natural_populations() const {
+  const Index3 n = decomp_.local_cells();
+  grid::Field<Real> out(n, nq_, 1);
+  const double* post[32];
+  post_view(post);
+  for (int q = 0; q < nq_; ++q)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) {
+          const std::ptrdiff_t c = f_.index(i, j, k);
+          out(i, j, k, q) = solid_[c] ? w_[q] : post[q][c];
+        }
+  return out;
 }
 
 void LbmSolver::update_macroscopic() {
   const Index3 n = decomp_.local_cells();
+  const double* post[32];
+  post_view(post);
   const Vec3 g{params_.body_force.x, params_.body_force.y, params_.body_force.z};
   const Vec3 gl{units_.force_density_to_lattice(g.x), units_.force_density_to_lattice(g.y),
                 units_.force_density_to_lattice(g.z)};
@@ -244,8 +278,10 @@ void LbmSolver::update_macroscopic() {
     for (int j = 0; j < n.y; ++j)
       for (int i = 0; i < n.x; ++i) {
         double m = 0, jx = 0, jy = 0, jz = 0;
+        const std::ptrdiff_t c = f_.index(i, j, k);
+        const bool solid = solid_[c];  // at rest, as the two-grid sweep left them
         for (int q = 0; q < nq_; ++q) {
-          const double v = f_(i, j, k, q);
+          const double v = solid ? w_[q] : post[q][c];
           m += v;
           jx += c_[q][0] * v;
           jy += c_[q][1] * v;
@@ -377,16 +413,22 @@ void LbmSolver::apply_boundaries() {
   const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
                                                     params_.inlet.time_factor(t)
                                               : 0.0;
-  double* f[32];
-  for (int q = 0; q < nq_; ++q) f[q] = f_.component(q);
+  // f[p][c]: post-collision population p of cell c. The value link (s -> x, q) delivers is what x
+  // reads as its streamed population q: slot opp(q) of s before a neighbour step, slot q of x
+  // before a local one. Targets and sources never overlap (a target's writer is not fluid).
+  const double* f[32];
+  post_view(f);
+  double* to[32];
+  for (int q = 0; q < nq_; ++q) to[q] = streamed_ ? f_.component(q) : f_.component(opp_[q]);
   for (const Link& l : links_) {
     const int q = l.q;
+    double& dst = to[q][streamed_ ? l.x : l.s];
     switch (l.type) {
       case -1:  // moving-wall bounce-back with the inlet velocity (Ladd 1994)
-        f[q][l.s] = f[opp_[q]][l.x] + l.coef * u_in;
+        dst = f[opp_[q]][l.x] + l.coef * u_in;
         break;
       case int(FaceType::kFreeSlip):
-        f[q][l.s] = f[l.q2][l.x2];
+        dst = f[l.q2][l.x2];
         break;
       case int(FaceType::kPressure): {
         // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of
@@ -403,24 +445,23 @@ void LbmSolver::apply_boundaries() {
         }
         const double ux = jx / m, uy = jy / m, uz = jz / m;
         const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-        f[q][l.s] = -f[opp_[q]][l.x] +
-                    2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
+        dst = -f[opp_[q]][l.x] +
+              2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
         break;
       }
       case int(FaceType::kZeroGradient):
-        f[q][l.s] = f[q][l.x];
+        dst = f[q][l.x];
         break;
       default:  // half-way bounce-back
-        f[q][l.s] = f[opp_[q]][l.x];
+        dst = f[opp_[q]][l.x];
     }
   }
 }
 
 void LbmSolver::sweep(bool macro) {
   const Vec3& bf = params_.body_force;
-  SweepArgs a{
+  AaSweepArgs a{
       &f_,
-      &f_next_,
       &force_,
       &rho_,
       &u_,
@@ -431,20 +472,26 @@ void LbmSolver::sweep(bool macro) {
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
-  SweepFn fn = params_.lattice == "D3Q15" ? pick1<D3Q15>(params_.trt, fm, macro, has_solids_)
-                                          : pick1<D3Q19>(params_.trt, fm, macro, has_solids_);
+  const bool from_post = !streamed_;
+  SweepFn fn = params_.lattice == "D3Q15"
+                   ? pick1<D3Q15>(params_.trt, fm, from_post, macro, has_solids_)
+                   : pick1<D3Q19>(params_.trt, fm, from_post, macro, has_solids_);
   fn(a);
 }
 
 void LbmSolver::step(bool update_macro) {
+  // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
+  // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
+  const bool neighbour_step = !streamed_;
   double t0 = MPI_Wtime();
-  halo_->exchange();
+  if (neighbour_step) halo_->exchange();
   double t1 = MPI_Wtime();
   apply_boundaries();
   double t2 = MPI_Wtime();
   sweep(update_macro);
   double t3 = MPI_Wtime();
-  f_.swap(f_next_);  // the halo exchange holds &f_, which now owns the new populations
+  if (neighbour_step) fold_->fold();
+  streamed_ = neighbour_step;
   if (update_macro) halo_u_->exchange();
   double t4 = MPI_Wtime();
   t_halo_ += (t1 - t0) + (t4 - t3);
@@ -456,11 +503,16 @@ void LbmSolver::step(bool update_macro) {
 
 double LbmSolver::total_mass() const {
   const Index3 n = decomp_.local_cells();
+  const double* post[32];
+  post_view(post);
   double local = 0;
   for (int q = 0; q < nq_; ++q)
     for (int k = 0; k < n.z; ++k)
       for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) local += f_(i, j, k, q);
+        for (int i = 0; i < n.x; ++i) {
+          const std::ptrdiff_t c = f_.index(i, j, k);
+          local += solid_[c] ? w_[q] : post[q][c];
+        }
   double global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, decomp_.comm());
   return global;
@@ -468,14 +520,17 @@ double LbmSolver::total_mass() const {
 
 void LbmSolver::check_health(double rho_min, double rho_max) const {
   const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo;
+  const double* post[32];
+  post_view(post);
   long long bad = -1;
   double bad_rho = 0;
   for (int k = 0; k < n.z && bad < 0; ++k)
     for (int j = 0; j < n.y && bad < 0; ++j)
       for (int i = 0; i < n.x; ++i) {
-        if (solid_[f_.index(i, j, k)]) continue;
+        const std::ptrdiff_t c = f_.index(i, j, k);
+        if (solid_[c]) continue;
         double m = 0;
-        for (int q = 0; q < nq_; ++q) m += f_(i, j, k, q);
+        for (int q = 0; q < nq_; ++q) m += post[q][c];
         if (!std::isfinite(m) || m < rho_min || m > rho_max) {
           const Index3 gc{lo.x + i, lo.y + j, lo.z + k};
           bad = (static_cast<long long>(gc.z) * decomp_.global_cells().y + gc.y) *
@@ -501,7 +556,8 @@ void LbmSolver::check_health(double rho_min, double rho_max) const {
 }
 
 void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {
-  w.write_field("lbm_populations", f_, 0, nq_);
+  // Natural order on either parity, so a restart onto any rank count continues bitwise.
+  w.write_field("lbm_populations", natural_populations(), 0, nq_);
   w.write_attribute("lbm_step", static_cast<std::int64_t>(step_));
   w.write_attribute("lbm_lattice", params_.lattice);
 }
@@ -513,7 +569,14 @@ void LbmSolver::read_checkpoint(io::CheckpointReader& r) {
         fmt::format("checkpoint uses lattice {} but the deck says lbm.lattice = "
                     "{}",
                     lattice, params_.lattice));
-  r.read_field("lbm_populations", f_, 0, nq_);
+  const Index3 n = decomp_.local_cells();
+  grid::Field<Real> natural(n, nq_, 1);
+  r.read_field("lbm_populations", natural, 0, nq_);
+  for (int q = 0; q < nq_; ++q)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) f_(i, j, k, opp_[q]) = natural(i, j, k, q);
+  streamed_ = false;
   step_ = r.read_attribute_int("lbm_step");
   update_macroscopic();
 }
