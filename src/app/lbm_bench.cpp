@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "grid/decomposition.hpp"
@@ -57,6 +58,10 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   }
   for (Case c :
        {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"}, Case{"D3Q19", "trt"}}) {
+    const std::string name = std::string(c.lattice) + "/" + c.collision;
+    if (!opts.cases.empty() &&
+        std::find(opts.cases.begin(), opts.cases.end(), name) == opts.cases.end())
+      continue;
     // The tank configuration: walls, free-slip top, inlet jet, outlet annulus, Guo forcing on.
     solvers::lbm::LbmParams p;
     p.lattice = c.lattice;

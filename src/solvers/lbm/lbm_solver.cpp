@@ -406,6 +406,42 @@ void LbmSolver::build_links() {
           links_.push_back(l);
         }
       }
+  build_plans();
+}
+
+void LbmSolver::build_plans() {
+  // The value link (s -> x, q) delivers is what x reads as its streamed population q: slot opp(q)
+  // of s before a neighbour step, slot q of x before a local one. The post-collision population p
+  // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
+  const auto plane = static_cast<std::int64_t>(f_.plane_size());
+  for (int streamed = 0; streamed < 2; ++streamed) {
+    auto post = [&](int p, std::int64_t c) {
+      return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
+    };
+    BoundaryPlan& plan = plans_[streamed];
+    plan = {};
+    for (const Link& l : links_) {
+      const int q = l.q;
+      const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
+      switch (l.type) {
+        case -1:
+          plan.inlet.push_back({dst, post(opp_[q], l.x)});
+          plan.inlet_coef.push_back(l.coef);
+          break;
+        case int(FaceType::kFreeSlip):
+          plan.copies.push_back({dst, post(l.q2, l.x2)});
+          break;
+        case int(FaceType::kPressure):
+          plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
+          break;
+        case int(FaceType::kZeroGradient):
+          plan.copies.push_back({dst, post(q, l.x)});
+          break;
+        default:
+          plan.copies.push_back({dst, post(opp_[q], l.x)});
+      }
+    }
+  }
 }
 
 void LbmSolver::apply_boundaries() {
@@ -413,48 +449,39 @@ void LbmSolver::apply_boundaries() {
   const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
                                                     params_.inlet.time_factor(t)
                                               : 0.0;
-  // f[p][c]: post-collision population p of cell c. The value link (s -> x, q) delivers is what x
-  // reads as its streamed population q: slot opp(q) of s before a neighbour step, slot q of x
-  // before a local one. Targets and sources never overlap (a target's writer is not fluid).
+  // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
+  double* base = f_.component(0);
+  const BoundaryPlan& plan = plans_[streamed_];
+  // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
+  for (const auto& [dst, src] : plan.copies) base[dst] = base[src];
+  // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
+  for (std::size_t i = 0; i < plan.inlet.size(); ++i)
+    base[plan.inlet[i][0]] = base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in;
+  // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of the
+  // equilibrium enters, so the cell's velocity does not feed back linearly. (Plain equilibrium
+  // with the cell's velocity grew round-off at outlet/wall corners into a blow-up after ~4e4
+  // steps.) The cell's velocity is computed once for its consecutive links.
   const double* f[32];
   post_view(f);
-  double* to[32];
-  for (int q = 0; q < nq_; ++q) to[q] = streamed_ ? f_.component(q) : f_.component(opp_[q]);
-  for (const Link& l : links_) {
-    const int q = l.q;
-    double& dst = to[q][streamed_ ? l.x : l.s];
-    switch (l.type) {
-      case -1:  // moving-wall bounce-back with the inlet velocity (Ladd 1994)
-        dst = f[opp_[q]][l.x] + l.coef * u_in;
-        break;
-      case int(FaceType::kFreeSlip):
-        dst = f[l.q2][l.x2];
-        break;
-      case int(FaceType::kPressure): {
-        // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of
-        // the equilibrium enters, so the cell's velocity does not feed back linearly. (Plain
-        // equilibrium with the cell's velocity grew round-off at outlet/wall corners into a blow-up
-        // after ~4e4 steps.)
-        double m = 0, jx = 0, jy = 0, jz = 0;
-        for (int p = 0; p < nq_; ++p) {
-          const double v = f[p][l.x];
-          m += v;
-          jx += c_[p][0] * v;
-          jy += c_[p][1] * v;
-          jz += c_[p][2] * v;
-        }
-        const double ux = jx / m, uy = jy / m, uz = jz / m;
-        const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-        dst = -f[opp_[q]][l.x] +
-              2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
-        break;
+  std::int64_t cell = -1;
+  double ux = 0, uy = 0, uz = 0;
+  for (const auto& l : plan.pressure) {
+    if (l.cell != cell) {
+      cell = l.cell;
+      double m = 0, jx = 0, jy = 0, jz = 0;
+      for (int p = 0; p < nq_; ++p) {
+        const double v = f[p][cell];
+        m += v;
+        jx += c_[p][0] * v;
+        jy += c_[p][1] * v;
+        jz += c_[p][2] * v;
       }
-      case int(FaceType::kZeroGradient):
-        dst = f[q][l.x];
-        break;
-      default:  // half-way bounce-back
-        dst = f[opp_[q]][l.x];
+      ux = jx / m, uy = jy / m, uz = jz / m;
     }
+    const int q = l.q;
+    const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
+    base[l.dst] =
+        -base[l.src] + 2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
   }
 }
 

@@ -140,7 +140,20 @@ class LbmSolver {
     std::int32_t type;   ///< FaceType or inlet (-1)
     double coef;         ///< inlet: 6 w_q (c_q.n) profile
   };
+  /// \brief The links of one step parity as linear indices into the population buffer (dst is
+  /// written from src), grouped by kind so that each kind is one tight loop.
+  struct BoundaryPlan {
+    std::vector<std::array<std::int64_t, 2>> copies;  ///< wall, free slip, zero gradient
+    std::vector<std::array<std::int64_t, 2>> inlet;   ///< moving wall, + coef * u_in
+    std::vector<double> inlet_coef;
+    struct Pressure {
+      std::int64_t dst, src, cell;  ///< src: the opposite population of cell
+      std::int32_t q;
+    };
+    std::vector<Pressure> pressure;  ///< consecutive per cell
+  };
   void build_links();
+  void build_plans();
   void apply_boundaries();
   void sweep(bool macro);
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
@@ -163,6 +176,7 @@ class LbmSolver {
   std::unique_ptr<grid::HaloExchange> halo_, halo_u_;  ///< before a neighbour step; velocity
   std::unique_ptr<grid::GhostFold> fold_;              ///< after a neighbour step
   std::vector<Link> links_;
+  BoundaryPlan plans_[2];  ///< [streamed_]
   long long step_ = 0;
   double updates_ = 0, t_collide_ = 0, t_halo_ = 0, t_boundary_ = 0;
 };
