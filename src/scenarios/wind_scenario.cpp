@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "grid/halo_exchange.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
 #include "linalg/petsc_environment.hpp"
@@ -112,6 +113,8 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   std::array<bool, 3> periodic;
   for (int a = 0; a < 3; ++a) periodic[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
   decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, p.cells, periodic);
+  grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts,
+                         {"wind.nx", "wind.ny", "wind.nz"});
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
   mac_->project_initial();
   const auto st = mac_->next_dt();
