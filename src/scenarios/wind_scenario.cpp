@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -21,6 +22,10 @@ void WindScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("wind.dx", 0.4, 0.0, std::nullopt, "m", "cubic cell size", true);
   s.add_real("wind.viscosity", 1.5e-5, 0.0, std::nullopt, "m^2/s",
              "kinematic viscosity nu (air: 1.5e-5)");
+  s.add_real("wind.reynolds_number", 0.0, 0.0, std::nullopt, "-",
+             "if > 0: viscosity = U L / Re replaces wind.viscosity, with U the largest noslip wall "
+             "speed (else the inflow speed) and L = wind.nx * wind.dx (the lid-driven cavity)",
+             true);
   s.add_real("wind.air_density", 1.2, 0.0, std::nullopt, "kg/m^3",
              "air density (turns phi = p/rho into Pa for output)", true);
   s.add_real("wind.cfl", 0.5, 0.0, 1.0, "-", "advective CFL number of the adaptive dt", true);
@@ -91,7 +96,10 @@ solvers::mac::MacParams wind_params_from_config(const core::Config& cfg) {
   p.inflow.reference_height = cfg.get_real("wind.inflow.reference_height");
   p.inflow.roughness_length = cfg.get_real("wind.inflow.roughness_length");
   p.ground_roughness = cfg.get_real("wind.ground.roughness_length");
-  if (p.ground_roughness >= 0.5 * p.dx)
+  bool any_ground = false;
+  for (const auto& axis : p.boundaries)
+    for (const auto& face : axis) any_ground |= face.type == BoundaryType::kGround;
+  if (any_ground && p.ground_roughness >= 0.5 * p.dx)
     cfg.fail("wind.ground.roughness_length",
              fmt::format("must be below half a cell (dx/2 = {} m) for the log-law wall stress",
                          0.5 * p.dx));
@@ -100,6 +108,21 @@ solvers::mac::MacParams wind_params_from_config(const core::Config& cfg) {
   p.initial_from_inflow = cfg.get_bool("wind.initial_from_inflow");
   const auto& bf = cfg.get_real_list("wind.body_force");
   p.body_force = {bf[0], bf[1], bf[2]};
+  if (const double re = cfg.get_real("wind.reynolds_number"); re > 0) {
+    double u = 0;
+    bool any_inflow = false;
+    for (const auto& axis : p.boundaries)
+      for (const auto& face : axis) {
+        if (face.type == BoundaryType::kNoSlip)
+          u = std::max(u, std::sqrt(core::dot(face.wall_velocity, face.wall_velocity)));
+        any_inflow |= face.type == BoundaryType::kInflow;
+      }
+    if (u == 0 && any_inflow) u = p.inflow.speed;
+    if (u == 0)
+      cfg.fail("wind.reynolds_number",
+               "needs a velocity scale: a moving noslip wall (<face>_velocity) or an inflow");
+    p.viscosity = u * p.cells.x * p.dx / re;
+  }
   p.poisson_options = cfg.get_string("wind.poisson_options");
   p.poisson_options_key = "wind.poisson_options";
   return p;
@@ -123,12 +146,12 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   MPI_Comm_rank(ctx.comm, &rank);
   if (rank == 0)
     fmt::print(
-        "wind: {}x{}x{} cells of {} m on {}x{}x{} ranks, Poisson: {}\n"
+        "wind: {}x{}x{} cells of {} m on {}x{}x{} ranks, viscosity {:.6g} m^2/s, Poisson: {}\n"
         "wind: time step limits at start: CFL {:.4g} s, viscous {:.4g} s -> dt {:.4g} s "
         "(scenario step {} s)\n",
         p.cells.x, p.cells.y, p.cells.z, p.dx, decomp_->dims().x, decomp_->dims().y,
-        decomp_->dims().z, mac_->poisson_description(), st.dt_cfl, st.dt_viscous, st.dt,
-        step_time_);
+        decomp_->dims().z, p.viscosity, mac_->poisson_description(), st.dt_cfl, st.dt_viscous,
+        st.dt, step_time_);
 }
 
 WindScenario::~WindScenario() {
