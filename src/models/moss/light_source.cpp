@@ -56,13 +56,21 @@ Vec3 cosine_direction(const Vec3& n, double xi1, double xi2) {
   return n * cos_t + u * (sin_t * std::cos(phi)) + v * (sin_t * std::sin(phi));
 }
 
-bool emit_photon(const SquareLight& l, const BoundingSphere& s, core::Rng& rng, long long max_draws,
-                 Emission& out) {
+double emission_cone_cos2(const SquareLight& l, const BoundingSphere& s) {
+  const double dist = core::dot(s.centre - l.centre, l.normal);
+  if (dist <= s.radius + std::sqrt(2.0) * l.half) return 0.0;
+  const double t = std::atan(std::sqrt(2.0) * l.half / dist) + std::asin(s.radius / dist);
+  if (t >= std::numbers::pi / 2) return 0.0;
+  return std::cos(t) * std::cos(t);
+}
+
+bool emit_photon(const SquareLight& l, const BoundingSphere& s, double cos2_max, core::Rng& rng,
+                 long long max_draws, Emission& out) {
   out.draws = 0;
   while (out.draws < max_draws) {
     ++out.draws;
     const double a = rng.uniform(-1, 1), b = rng.uniform(-1, 1);
-    const double xi1 = rng.uniform(), xi2 = rng.uniform();
+    const double xi1 = cos2_max + (1.0 - cos2_max) * rng.uniform(), xi2 = rng.uniform();
     out.origin = l.centre + l.u * (a * l.half) + l.v * (b * l.half);
     out.dir = cosine_direction(l.normal, xi1, xi2);
     // Ray-sphere: closest approach of the forward ray to the centre within the radius.

@@ -68,10 +68,12 @@ std::vector<double> PhotonMap::insolation(const PhotonTracer& tracer, const Squa
   MPI_Comm_size(comm_, &size);
   const auto n = static_cast<std::uint64_t>(s.photons);
   const std::uint64_t first = n * rank / size, last = n * (rank + 1) / size;
+  const double t0 = MPI_Wtime();
   std::vector<PhotonHit> hits;
   const TraceStats ts =
       tracer.trace(light, sphere, seed, day, first, last, s.indirect, s.max_bounces, hits);
 
+  const double t1 = MPI_Wtime();
   set_->resize(0, 0);
   for (const auto& h : hits)
     set_->add_owned(h.photon * 128 + static_cast<std::uint64_t>(std::min(h.bounce, 127)), h.x);
@@ -89,6 +91,7 @@ std::vector<double> PhotonMap::insolation(const PhotonTracer& tracer, const Squa
     if (set_->n_total() > 0) tree.findNeighbors(res, pt, nanoflann::SearchParams());
     local[q] = static_cast<long long>(res.count);
   }
+  const double t2 = MPI_Wtime();
   counts_.assign(queries.size(), 0);
   MPI_Allreduce(local.data(), counts_.data(), static_cast<int>(queries.size()), MPI_LONG_LONG,
                 MPI_SUM, comm_);
@@ -97,8 +100,10 @@ std::vector<double> PhotonMap::insolation(const PhotonTracer& tracer, const Squa
   MPI_Allreduce(mine, all, 3, MPI_LONG_LONG, MPI_SUM, comm_);
   const double rho_ref =
       photon_density_per_draw(light, s.reference.value_or(sphere.centre), Vec3{0, 1, 0});
-  const double phi = s.open_insolation / (static_cast<double>(all[0]) * rho_ref);
-  if (stats) *stats = {all[0], all[1], all[2], phi};
+  const double plain_draws =
+      static_cast<double>(all[0]) / (1.0 - emission_cone_cos2(light, sphere));
+  const double phi = s.open_insolation / (plain_draws * rho_ref);
+  if (stats) *stats = {all[0], all[1], all[2], phi, t1 - t0, t2 - t1};
   std::vector<double> out(queries.size());
   const double area = std::numbers::pi * r2;
   for (std::size_t q = 0; q < queries.size(); ++q)

@@ -8,8 +8,9 @@
 /// r. Each rank builds a nanoflann kd-tree over its owned + ghost hits and counts, for the query
 /// points it owns, the hits within r; the counts are integers and summed into one global array, so
 /// S = Φ n / (π r²) is the same on any rank count to the last bit. Φ = S_open / (D ρ_ref): D all
-/// emission draws (summed exactly as integers) and ρ_ref the per-draw density of photon_density_
-/// per_draw at the reference point (PhotonMapSettings) on a horizontal surface.
+/// emission draws (summed exactly as integers, scaled by 1 / (1 - cos2_max), see emit_photon) and
+/// ρ_ref the per-draw density of photon_density_ per_draw at the reference point
+/// (PhotonMapSettings) on a horizontal surface.
 #include <mpi.h>
 
 #include <memory>
@@ -37,8 +38,11 @@ struct PhotonMapSettings {
 
 /// \brief Counts of one photon map (global, identical on every rank).
 struct PhotonMapStats {
-  long long draws = 0, photons = 0, stored = 0;
-  double photon_power = 0;  ///< Φ, W per photon
+  long long draws = 0;  ///< conditioned emission draws
+  long long photons = 0, stored = 0;
+  double photon_power = 0;   ///< Φ, W per photon
+  double trace_seconds = 0;  ///< this rank: tracing its photons
+  double map_seconds = 0;    ///< this rank: redistribution, ghosts, kd-tree build and queries
 };
 
 /// \brief Domain of the photon map's rank decomposition; see file comment.

@@ -140,10 +140,11 @@ TraceStats PhotonTracer::trace(const SquareLight& light, const BoundingSphere& s
                                std::vector<PhotonHit>& out) const {
   TraceStats st;
   constexpr long long kMaxDraws = 100000000;
+  const double cos2_max = emission_cone_cos2(light, sphere);
   for (std::uint64_t p = first; p < last; ++p) {
     core::Rng rng(seed, p, day, core::RngPurpose::kPhoton);
     Emission e;
-    if (!emit_photon(light, sphere, rng, kMaxDraws, e))
+    if (!emit_photon(light, sphere, cos2_max, rng, kMaxDraws, e))
       throw std::runtime_error("photon emission: the light never sees the scene's sphere");
     st.draws += e.draws;
     ++st.photons;

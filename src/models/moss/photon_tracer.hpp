@@ -35,7 +35,8 @@ struct RayHit {
 
 /// \brief Counts of one tracing call.
 struct TraceStats {
-  long long draws = 0, photons = 0, stored = 0, lost = 0;
+  long long draws = 0;  ///< conditioned emission draws (see emit_photon)
+  long long photons = 0, stored = 0, lost = 0;
 };
 
 /// \brief Embree scene and tracer; see file comment.
