@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "models/moss/photon_map.hpp"
@@ -40,6 +41,12 @@ std::vector<Vec3> grid_points(double x0, double x1, int nx, double z0, double z1
       q.push_back({x0 + (x1 - x0) * i / std::max(1, nx - 1), 0.0,
                    z0 + (z1 - z0) * k / std::max(1, nz - 1)});
   return q;
+}
+
+bool rank0() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r == 0;
 }
 
 double mean(const std::vector<double>& a) {
@@ -81,6 +88,8 @@ TEST(PhotonMap, OpenPlaneReceivesOpenInsolation) {
   PhotonMapStats stats;
   const auto s = map.insolation(tr, light, sphere, 7, 3, st, q, &stats);
   EXPECT_EQ(stats.photons, st.photons);
+  if (rank0())
+    std::printf("open plane: mean S %.2f W/m2 (S_open 120) over %zu disks\n", mean(s), s.size());
   EXPECT_NEAR(mean(s), 120.0, 0.04 * 120);              // about 4 standard errors of the mean
   for (double v : s) EXPECT_NEAR(v, 120.0, 0.3 * 120);  // 4 standard errors of one count
   // Same counts as a brute-force search over every hit: independent of the decomposition.
@@ -117,7 +126,13 @@ TEST(PhotonMap, HalfRoofShadeAndIndirectLight) {
   const auto [shade_direct, open_direct] = run(0.6, false);  // experiment 1: indirect off
   for (double v : shade_direct) EXPECT_EQ(v, 0.0);
   const auto [shade_lit, open_lit] = run(0.6, true);
-  EXPECT_GT(mean(shade_lit), 2.0);  // interreflection under the roof
+  if (rank0())
+    std::printf(
+        "half roof: S under the roof %.2f (rho 0) %.2f (rho 0.6, direct only) %.2f (rho 0.6, "
+        "indirect); open %.2f %.2f %.2f W/m2\n",
+        mean(shade_black), mean(shade_direct), mean(shade_lit), mean(open_black), mean(open_direct),
+        mean(open_lit));
+  EXPECT_GT(mean(shade_lit), 1.0);  // interreflection under the roof (2.25: ~90 photons, 5 sd)
   EXPECT_LT(mean(shade_lit), 0.5 * mean(open_lit));
 }
 
@@ -145,6 +160,9 @@ TEST(PhotonMap, ClosedBoxStoresOneOverOneMinusRho) {
     EXPECT_EQ(stats.draws, stats.photons);  // the light is inside the sphere: no culling
     const double per_photon = double(stats.stored) / double(stats.photons);
     const double sd = std::sqrt(rho / ((1 - rho) * (1 - rho)) / double(stats.photons));
+    if (rank0())
+      std::printf("closed box rho %.1f: %.4f stored per photon (1/(1-rho) = %.4f, sd %.4f)\n", rho,
+                  per_photon, 1 / (1 - rho), sd);
     EXPECT_NEAR(per_photon, 1 / (1 - rho), 5 * sd) << "rho " << rho;
   }
 }
