@@ -736,6 +736,13 @@ void FlockScenario::check_health() {
   }
 }
 
+void FlockScenario::poison_for_test() {
+  if (set_->n_owned() == 0) return Scenario::poison_for_test();
+  Vec3 v = set_->vec3(a_vel_, 0);
+  v.x = std::numeric_limits<double>::quiet_NaN();
+  set_->set_vec3(a_vel_, 0, v);
+}
+
 std::string FlockScenario::progress() {
   return fmt::format("flying {} fleeing {} phi {:.3f} avalanches {} topplings {}", last_flying_,
                      last_fleeing_, last_phi_, avalanches_, sandpile_->topplings());
