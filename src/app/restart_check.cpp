@@ -25,19 +25,29 @@ bool may_change(const std::string& key) {
   return false;
 }
 
+// One value as text: reals in their shortest round-trip form (0.55, not 0.55000000000000004).
+std::string value_text(const toml::node& node) {
+  if (auto d = node.value_exact<double>()) return fmt::format("{}", *d);
+  if (const auto* arr = node.as_array()) {
+    std::string out = "[";
+    for (const auto& e : *arr) out += (out.size() > 1 ? ", " : "") + value_text(e);
+    return out + "]";
+  }
+  std::ostringstream s;
+  node.visit([&](const auto& v) { s << toml::toml_formatter{v}; });
+  return s.str();
+}
+
 // Flatten effective-config TOML text to dotted key -> value text (same printer for both sides).
 void flatten(const toml::table& t, const std::string& prefix,
              std::map<std::string, std::string>& out) {
   for (const auto& [k, node] : t) {
     const std::string key =
         prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (const auto* sub = node.as_table()) {
+    if (const auto* sub = node.as_table())
       flatten(*sub, key, out);
-    } else {
-      std::ostringstream s;
-      node.visit([&](const auto& v) { s << toml::toml_formatter{v}; });
-      out[key] = s.str();
-    }
+    else
+      out[key] = value_text(node);
   }
 }
 

@@ -186,6 +186,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
         phase("output", [&] { scenario->write_output(); });
       if (ckpt_every > 0 && s % ckpt_every == 0 && s != last_step) checkpoint("interval");
       // A batch scheduler sends SIGTERM before killing the job: checkpoint and leave cleanly.
+      // Test hook: a real SIGTERM raised on one rank at one step (the fault suite).
+      if (core::fault_injected("sigterm", rank, s)) std::raise(SIGTERM);
       any_signal = agreement.run([] {}, g_signal.load());
       // Test hook: a signal that reaches this rank after the others have agreed on the last step.
       if (core::fault_injected("late_signal", rank, s)) g_signal.store(SIGTERM);
