@@ -184,6 +184,16 @@ std::vector<double> CheckpointReader::read_all_rows(const std::string& name, int
   return out;
 }
 
+std::vector<double> CheckpointReader::read_rows_share(const std::string& name, int& ncols) {
+  auto dims = h5::dims_of(file_, "/rows/" + name);
+  ncols = static_cast<int>(dims[1]);
+  const hsize_t P = decomp_.size(), r = decomp_.rank();
+  const hsize_t lo = dims[0] * r / P, hi = dims[0] * (r + 1) / P;
+  std::vector<double> out((hi - lo) * dims[1]);
+  h5::read_block(file_, "/rows/" + name, {lo, 0}, {hi - lo, dims[1]}, out.data());
+  return out;
+}
+
 std::vector<std::uint64_t> CheckpointReader::read_all_rows_u64(const std::string& name,
                                                                int& ncols) {
   auto dims = h5::dims_of(file_, "/rows/" + name);

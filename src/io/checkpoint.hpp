@@ -69,6 +69,9 @@ class CheckpointReader {
   /// \brief All rows of a rows-dataset on every rank (callers keep what they own); returns ncols
   /// through `ncols`. For particles prefer read_rows_share + ParticleComm::redistribute.
   std::vector<double> read_all_rows(const std::string& name, int& ncols);
+  /// \brief This rank's share of a rows-dataset (rows [r*N/P, (r+1)*N/P), a hyperslab read), so
+  /// no rank holds every row; the caller redistributes them to their owners.
+  std::vector<double> read_rows_share(const std::string& name, int& ncols);
   std::vector<std::uint64_t> read_all_rows_u64(const std::string& name, int& ncols);
   double read_attribute_real(const std::string& name);
   std::int64_t read_attribute_int(const std::string& name);
