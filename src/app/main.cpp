@@ -13,6 +13,7 @@
 #include "app/flock_bench.hpp"
 #include "app/lbm_bench.hpp"
 #include "app/run_loop.hpp"
+#include "core/agreement.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/mpi_io_workaround.hpp"
@@ -130,7 +131,9 @@ int main(int argc, char** argv) {
   auto* run = cli.add_subcommand("run", "run a deck");
   run->add_option("deck", deck, "TOML input deck")->required();
   run->add_option("--set", overrides, "override a deck key: --set key=value (repeatable)");
-  run->add_option("--restart", restart, "continue from this checkpoint file");
+  run->add_option("--restart", restart,
+                  "continue from this checkpoint file, or `latest`: the newest complete one in "
+                  "checkpoint.dir");
   auto* check = cli.add_subcommand("check", "validate a deck without running it");
   check->add_option("deck", deck, "TOML input deck")->required();
   check->add_option("--set", overrides, "override a deck key: --set key=value (repeatable)");
@@ -194,10 +197,13 @@ int main(int argc, char** argv) {
     }
     if (root) fmt::print("{}", cli.help());
     return 0;
+  } catch (const core::AgreedError& e) {  // every rank has it: print once, exit cleanly
+    if (root) fmt::print(stderr, "biota: error: {}\n", e.what());
+    return e.exit_code();
   } catch (const core::InputError& e) {
     if (root) fmt::print(stderr, "biota: error: {}\n", e.what());
     return core::kExitInput;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // on this rank only: the others may wait in a collective
     fmt::print(stderr, "biota: fatal error: {}\n", e.what());
     MPI_Abort(MPI_COMM_WORLD, core::kExitRuntime);
     return core::kExitRuntime;

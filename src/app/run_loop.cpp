@@ -6,7 +6,11 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <memory>
+#include <stdexcept>
 
+#include "app/restart_check.hpp"
+#include "core/agreement.hpp"
 #include "core/error.hpp"
 #include "core/timers.hpp"
 
@@ -74,25 +78,34 @@ void declare_common_config(core::ConfigSchema& s) {
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");
 }
 
-int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& restart_path,
+int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& restart_arg,
                  const std::vector<std::string>& solver_options) {
   const bool root = rank0(comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
   if (!cfg.has("run.steps") && !cfg.has("run.end_time"))
     cfg.fail("run.steps", "and run.end_time are both missing; give at least one");
   const std::string out_dir = cfg.get_string("output.dir");
   const std::string ckpt_dir = cfg.get_string("checkpoint.dir");
   const std::string name = cfg.get_string("scenario");
 
+  // Every phase below runs under the agreement: an error on one rank reaches all ranks there
+  // (AgreedError on every rank), or the job is aborted with that rank's message
+  // (docs/robustness.md).
+  core::ErrorAgreement agreement(comm);
+  std::string restart_path = restart_arg;
+  if (restart_path == "latest") agreement.run([&] { restart_path = latest_checkpoint(comm, cfg); });
+  if (!restart_path.empty()) agreement.run([&] { check_restart(comm, cfg, restart_path); });
+
   scenarios::ScenarioInfo info;
   for (auto& s : scenarios::all_scenarios())
     if (s.name == name) info = s;
   core::Timers timers;
   scenarios::RunContext ctx{comm, cfg, timers, out_dir, solver_options};
-  auto scenario = info.create(ctx);  // validates the scenario's own keys before any output
+  std::unique_ptr<scenarios::Scenario> scenario;
+  agreement.run([&] { scenario = info.create(ctx); });  // validates the scenario's own keys
   if (!restart_path.empty()) {
-    if (!std::filesystem::exists(restart_path))
-      throw core::InputError(restart_path + ": --restart checkpoint does not exist");
-    scenario->read_checkpoint(restart_path);
+    agreement.run([&] { scenario->read_checkpoint(restart_path); });
     if (root)
       fmt::print("restarted from {} at step {}, t = {:.6g} s\n", restart_path,
                  scenario->step_index(), scenario->time());
@@ -110,10 +123,22 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   const long long progress_every = cfg.get_int("run.progress_interval");
   const long long health_every = cfg.get_int("run.health_interval");
   std::string last_checkpoint = restart_path.empty() ? "(none)" : restart_path;
+  agreement.set_note("last good checkpoint: " + last_checkpoint);
+  // One phase of the loop: the test hook fails it on one rank, then every rank agrees.
+  auto phase = [&](const char* what, auto&& fn) {
+    agreement.run([&] {
+      fn();
+      if (core::fault_injected(what, rank, scenario->step_index()))
+        throw std::runtime_error(
+            fmt::format("test hook: injected failure in {} at step {} on rank {}", what,
+                        scenario->step_index(), rank));
+    });
+  };
   auto checkpoint = [&](const char* why) {
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
-    scenario->write_checkpoint(path);
+    phase("checkpoint", [&] { scenario->write_checkpoint(path); });
     last_checkpoint = path;
+    agreement.set_note("last good checkpoint: " + last_checkpoint);
     if (root) fmt::print("checkpoint ({}) written: {}\n", why, path);
   };
 
@@ -122,40 +147,67 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   if (root)
     fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
                first_step, last_step, dt, last_step * dt);
+  std::string table;
   try {
-    if (restart_path.empty() || out_every > 0) scenario->write_output();
+    if (restart_path.empty() || out_every > 0) phase("output", [&] { scenario->write_output(); });
+    int stop_signal = 0;  // reduced over ranks: every rank takes the same decisions from it
     while (scenario->step_index() < last_step) {
-      scenario->step();
+      // The step's agreement carries the signal flag: one small allreduce per step, as before.
+      int any_signal = 0;
+      agreement.run(
+          [&] {
+            if (core::fault_injected("step", rank, scenario->step_index() + 1))
+              throw std::runtime_error(
+                  fmt::format("test hook: injected failure before step {} on rank {}",
+                              scenario->step_index() + 1, rank));
+            scenario->step();
+            if (core::fault_injected("step_after", rank, scenario->step_index()))
+              throw std::runtime_error(
+                  fmt::format("test hook: injected failure after step {} on rank {}",
+                              scenario->step_index(), rank));
+          },
+          0);
       const long long s = scenario->step_index();
-      if (s % health_every == 0 || s == last_step) scenario->check_health();
+      if (s % health_every == 0 || s == last_step)
+        agreement.run([&] {
+          if (core::fault_injected("health", rank, s)) scenario->poison_for_test();
+          scenario->check_health();
+        });
       if (s % progress_every == 0 || s == last_step) {
-        std::string extra = scenario->progress();
+        std::string extra;
+        phase("progress", [&] { extra = scenario->progress(); });
         const double elapsed = MPI_Wtime() - wall0;
         const double eta = elapsed / double(s - first_step) * double(last_step - s);
         if (root)
           fmt::print("step {:>8}/{}  t = {:10.4f} s  {}  wall {:7.1f} s  ETA {:7.1f} s\n", s,
                      last_step, scenario->time(), extra, elapsed, eta);
       }
-      if ((out_every > 0 && s % out_every == 0) || s == last_step) scenario->write_output();
+      if ((out_every > 0 && s % out_every == 0) || s == last_step)
+        phase("output", [&] { scenario->write_output(); });
       if (ckpt_every > 0 && s % ckpt_every == 0 && s != last_step) checkpoint("interval");
       // A batch scheduler sends SIGTERM before killing the job: checkpoint and leave cleanly.
-      int local = g_signal.load(), any = 0;
-      MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
-      if (any) {
-        if (root) fmt::print("received signal {}: writing a checkpoint and stopping\n", any);
+      // Test hook: a real SIGTERM raised on one rank at one step (the fault suite).
+      if (core::fault_injected("sigterm", rank, s)) std::raise(SIGTERM);
+      any_signal = agreement.run([] {}, g_signal.load());
+      // Test hook: a signal that reaches this rank after the others have agreed on the last step.
+      if (core::fault_injected("late_signal", rank, s)) g_signal.store(SIGTERM);
+      if (any_signal) {
+        stop_signal = any_signal;
+        if (root) fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
         checkpoint("signal");
         break;
       }
     }
-    if (!g_signal.load() && scenario->step_index() == last_step) checkpoint("end of run");
-  } catch (const core::UnstableError& e) {
+    // Decided from the reduced flag: a rank's own flag may have been set after the last agreement.
+    if (!stop_signal && scenario->step_index() == last_step) checkpoint("end of run");
+    const double wall = MPI_Wtime() - wall0;
+    phase("end", [&] { table = timers.report(comm, wall); });
+  } catch (const core::AgreedError& e) {
     if (root)
       fmt::print(stderr, "biota: error: {}\nbiota: last good checkpoint: {}\n", e.what(),
                  last_checkpoint);
-    return core::kExitUnstable;
+    return e.exit_code();
   }
-  const double wall = MPI_Wtime() - wall0;
-  std::string table = timers.report(comm, wall);
   if (root)
     fmt::print("\ntiming breakdown ({} steps):\n{}", scenario->step_index() - first_step, table);
   return core::kExitOk;

@@ -28,8 +28,9 @@ class Timers {
     auto it = sections_.find(name);
     return it == sections_.end() ? 0.0 : it->second;
   }
-  /// \brief Table of every section (collective; all ranks must have the same section names,
-  /// missing ones count as 0). Returns the text on rank 0, empty elsewhere.
+  /// \brief Table of every section (collective): the ranks first agree on the union of their
+  /// section names (one missing on a rank counts as 0). Returns the text on rank 0, empty
+  /// elsewhere.
   std::string report(MPI_Comm comm, double wall_total) const;
   const std::map<std::string, double>& sections() const { return sections_; }
 

@@ -35,10 +35,13 @@ void row_offsets(MPI_Comm comm, unsigned long long rows, unsigned long long& off
 CheckpointWriter::CheckpointWriter(const grid::Decomposition& decomp, std::string path)
     : decomp_(decomp), path_(std::move(path)), tmp_path_(path_ + ".tmp") {
   file_ = h5::create_parallel(tmp_path_, decomp_.comm());
+  h5::write_int_attribute(file_, "biota_checkpoint_format", kCheckpointFormat);
 }
 
 CheckpointWriter::~CheckpointWriter() {
-  if (file_ >= 0) H5Fclose(file_);  // not committed: the .tmp file stays, the old one is intact
+  // Not committed: the .tmp file stays (never taken for a checkpoint), the old one is intact.
+  // H5Fclose is collective: while unwinding on one rank it would wait for the others forever.
+  if (file_ >= 0 && !unwind_.unwinding()) H5Fclose(file_);
 }
 
 void CheckpointWriter::write_field(const std::string& name, const grid::Field<core::Real>& field,
@@ -90,23 +93,50 @@ void CheckpointWriter::write_replicated(const std::string& name,
 }
 
 void CheckpointWriter::commit() {
-  H5Fclose(file_);
+  h5::write_int_attribute(file_, "complete", 1);
+  int status = H5Fclose(file_) < 0 ? 1 : 0;
   file_ = -1;
-  MPI_Barrier(decomp_.comm());
-  if (decomp_.rank() == 0 && std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
-    throw std::runtime_error("checkpoint: cannot rename " + tmp_path_ + " to " + path_);
-  MPI_Barrier(decomp_.comm());
+  if (core::fault_injected("checkpoint_close", decomp_.rank())) status = 1;
+  int any = 0;
+  MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, decomp_.comm());
+  if (any) {
+    if (decomp_.rank() == 0) std::remove(tmp_path_.c_str());
+    MPI_Barrier(decomp_.comm());
+    throw std::runtime_error("checkpoint: writing " + path_ +
+                             " failed (HDF5 close reported an error: disk full or I/O error); "
+                             "the partial file was removed");
+  }
+  int renamed = 1;
+  if (decomp_.rank() == 0) renamed = std::rename(tmp_path_.c_str(), path_.c_str()) == 0;
+  MPI_Bcast(&renamed, 1, MPI_INT, 0, decomp_.comm());
+  if (!renamed) throw std::runtime_error("checkpoint: cannot rename " + tmp_path_ + " to " + path_);
+}
+
+CheckpointHeader read_checkpoint_header(MPI_Comm comm, const std::string& path) {
+  CheckpointHeader h;
+  hid_t file = h5::open_parallel(path, comm);
+  if (file < 0) return h;
+  h.opened = true;
+  auto attr_exists = [&](const char* name) { return H5Aexists(file, name) > 0; };
+  if (attr_exists("biota_checkpoint_format"))
+    h.format = h5::read_int_attribute(file, "biota_checkpoint_format");
+  h.complete = attr_exists("complete") && h5::read_int_attribute(file, "complete") == 1;
+  if (attr_exists("scenario")) h.scenario = h5::read_string_attribute(file, "scenario");
+  if (attr_exists("config")) h.config = h5::read_string_attribute(file, "config");
+  H5Fclose(file);
+  return h;
 }
 
 CheckpointReader::CheckpointReader(const grid::Decomposition& decomp, std::string path)
     : decomp_(decomp), path_(std::move(path)) {
   file_ = h5::open_parallel(path_, decomp_.comm());
   if (file_ < 0)
-    throw core::InputError(path_ + ": cannot open checkpoint (missing or not an HDF5 file)");
+    throw core::InputError(path_ +
+                           ": cannot open checkpoint (missing, truncated or not an HDF5 file)");
 }
 
 CheckpointReader::~CheckpointReader() {
-  if (file_ >= 0) H5Fclose(file_);
+  if (file_ >= 0 && !unwind_.unwinding()) H5Fclose(file_);  // collective: not while unwinding
 }
 
 bool CheckpointReader::has(const std::string& name) const {
@@ -151,6 +181,16 @@ std::vector<double> CheckpointReader::read_all_rows(const std::string& name, int
   ncols = static_cast<int>(dims[1]);
   std::vector<double> out(dims[0] * dims[1]);
   h5::read_block(file_, "/rows/" + name, {0, 0}, dims, out.data());
+  return out;
+}
+
+std::vector<double> CheckpointReader::read_rows_share(const std::string& name, int& ncols) {
+  auto dims = h5::dims_of(file_, "/rows/" + name);
+  ncols = static_cast<int>(dims[1]);
+  const hsize_t P = decomp_.size(), r = decomp_.rank();
+  const hsize_t lo = dims[0] * r / P, hi = dims[0] * (r + 1) / P;
+  std::vector<double> out((hi - lo) * dims[1]);
+  h5::read_block(file_, "/rows/" + name, {lo, 0}, {hi - lo, dims[1]}, out.data());
   return out;
 }
 

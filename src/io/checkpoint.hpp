@@ -8,10 +8,26 @@
 #include <string>
 #include <vector>
 
+#include "core/agreement.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
 
 namespace biota::io {
+
+/// \brief Format version written into every checkpoint (attribute `biota_checkpoint_format`);
+/// a restart refuses a newer one. 1: first versioned format (scenario, config, complete marker).
+inline constexpr std::int64_t kCheckpointFormat = 1;
+
+/// \brief What a restart checks before reading any state (read by `read_checkpoint_header`).
+struct CheckpointHeader {
+  bool opened = false;       ///< an HDF5 file that opened (false: missing, truncated, not HDF5)
+  std::int64_t format = -1;  ///< -1: no format attribute (not a biota checkpoint)
+  bool complete = false;     ///< commit() reached the end of the write
+  std::string scenario, config;
+};
+
+/// \brief Open `path` (collective over `comm`; MPI_COMM_SELF for one rank) and read its header.
+CheckpointHeader read_checkpoint_header(MPI_Comm comm, const std::string& path);
 
 /// \brief Writes one checkpoint collectively. Finish with `commit()` (the rename).
 class CheckpointWriter {
@@ -31,13 +47,16 @@ class CheckpointWriter {
   void write_attribute(const std::string& name, std::int64_t value);
   void write_attribute(const std::string& name, const std::string& value);
   void write_replicated(const std::string& name, const std::vector<double>& values);
-  /// \brief Close and atomically rename to the final path. Collective.
+  /// \brief Mark complete, close, check the close status on every rank, and atomically rename
+  /// to the final path. If any rank's close failed (disk full, ...) the temporary file is removed
+  /// and every rank throws the same error. Collective.
   void commit();
 
  private:
   const grid::Decomposition& decomp_;
   std::string path_, tmp_path_;
   hid_t file_ = -1;
+  core::UnwindGuard unwind_;  // no collective close while unwinding
 };
 
 /// \brief Reads a checkpoint written on any rank count. Collective.
@@ -48,8 +67,11 @@ class CheckpointReader {
   /// \brief Fill owned cells of components [c0, c0+n) of `field` from the global dataset.
   void read_field(const std::string& name, grid::Field<core::Real>& field, int c0, int n);
   /// \brief All rows of a rows-dataset on every rank (callers keep what they own); returns ncols
-  /// through `ncols`.
+  /// through `ncols`. For particles prefer read_rows_share + ParticleComm::redistribute.
   std::vector<double> read_all_rows(const std::string& name, int& ncols);
+  /// \brief This rank's share of a rows-dataset (rows [r*N/P, (r+1)*N/P), a hyperslab read), so
+  /// no rank holds every row; the caller redistributes them to their owners.
+  std::vector<double> read_rows_share(const std::string& name, int& ncols);
   std::vector<std::uint64_t> read_all_rows_u64(const std::string& name, int& ncols);
   double read_attribute_real(const std::string& name);
   std::int64_t read_attribute_int(const std::string& name);
@@ -61,6 +83,7 @@ class CheckpointReader {
   const grid::Decomposition& decomp_;
   std::string path_;
   hid_t file_ = -1;
+  core::UnwindGuard unwind_;
 };
 
 }  // namespace biota::io

@@ -11,7 +11,7 @@ namespace biota::io::h5 {
 
 /// \brief Create (truncate) a file for collective parallel access.
 hid_t create_parallel(const std::string& path, MPI_Comm comm);
-/// \brief Open a file read-only for collective parallel access; throws on failure.
+/// \brief Open a file read-only for collective parallel access; -1 if it cannot be opened.
 hid_t open_parallel(const std::string& path, MPI_Comm comm);
 /// \brief Create the group path (like mkdir -p), return nothing.
 void ensure_group(hid_t file, const std::string& path);

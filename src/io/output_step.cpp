@@ -11,6 +11,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/agreement.hpp"
 #include "io/hdf5_util.hpp"
 #include "io/pvd_series.hpp"
 #include "io/xdmf_attribute.hpp"
@@ -75,7 +76,17 @@ void OutputStep::write() {
     h5::write_string_attribute(ds, "unit", a.unit);
     H5Dclose(ds);
   }
-  H5Fclose(file);
+  // A failed close (disk full) must not leave a file that looks like a finished output step.
+  int status = H5Fclose(file) < 0 ? 1 : 0, any = 0;
+  if (core::fault_injected("output_close", decomp_.rank())) status = 1;
+  MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, decomp_.comm());
+  if (any) {
+    if (decomp_.rank() == 0) std::filesystem::remove(h5_path());
+    MPI_Barrier(decomp_.comm());
+    throw std::runtime_error("output: writing " + h5_path() +
+                             " failed (HDF5 close reported an error: disk full or I/O error); "
+                             "the partial file was removed");
+  }
 
   // --- VTK piece of this rank (point extents are cell extents + 1).
   std::filesystem::path vtk_dir = std::filesystem::path(dir_) / "vtk";

@@ -1,3 +1,4 @@
+#include "core/error.hpp"
 #include "scenarios/flock_scenario.hpp"
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
@@ -5,6 +6,10 @@
 #include "scenarios/wind_scenario.hpp"
 
 namespace biota::scenarios {
+
+void Scenario::poison_for_test() {
+  throw core::UnstableError("test hook: injected health failure on this rank only");
+}
 
 std::vector<ScenarioInfo> all_scenarios() {
   return {

@@ -697,20 +697,18 @@ void FlockScenario::read_checkpoint(const std::string& path) {
   step_ = r.read_attribute_int("flock_step");
   avalanches_ = r.read_attribute_int("flock_avalanches");
   int width = 0;
-  auto rows = r.read_all_rows("flock_boids", width);
+  // Each rank reads its share of the rows; the redistribution sends them to their owners.
+  auto rows = r.read_rows_share("flock_boids", width);
   if (width != set_->pack_width(false))
     throw core::InputError(path + ": checkpoint boid layout differs");
-  set_->resize(0, 0);
   const std::size_t n = rows.size() / width;
-  if (static_cast<long long>(n) != n_prey_ + n_pred_)
+  unsigned long long total = n;
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, ctx_.comm);
+  if (static_cast<long long>(total) != n_prey_ + n_pred_)
     throw core::InputError(path + ": checkpoint has a different number of boids than the deck");
-  for (std::size_t k = 0; k < n; ++k) {
-    const double* row = rows.data() + k * width;
-    if (pcomm_->owner_of({row[0], row[1], row[2]}) != decomp_->rank()) continue;
-    const std::size_t i = set_->n_owned();
-    set_->resize(i + 1, i + 1);
-    set_->unpack(i, false, row);
-  }
+  set_->resize(n, n);
+  for (std::size_t k = 0; k < n; ++k) set_->unpack(k, false, rows.data() + k * width);
+  pcomm_->redistribute(*set_);
   mf::SandpileState st;
   const auto h = r.read_replicated("sandpile_heights");
   st.heights.assign(h.begin(), h.end());
@@ -734,6 +732,13 @@ void FlockScenario::check_health() {
       throw core::UnstableError(
           fmt::format("flock: boid {} non-finite at step {}", set_->id(i), step_));
   }
+}
+
+void FlockScenario::poison_for_test() {
+  if (set_->n_owned() == 0) return Scenario::poison_for_test();
+  Vec3 v = set_->vec3(a_vel_, 0);
+  v.x = std::numeric_limits<double>::quiet_NaN();
+  set_->set_vec3(a_vel_, 0, v);
 }
 
 std::string FlockScenario::progress() {

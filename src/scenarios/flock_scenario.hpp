@@ -45,6 +45,7 @@ class FlockScenario : public Scenario {
   void write_checkpoint(const std::string& path) override;
   void read_checkpoint(const std::string& path) override;
   void check_health() override;
+  void poison_for_test() override;
   std::string progress() override;
   std::vector<std::string> timer_sections() const override;
 

@@ -43,6 +43,9 @@ class Scenario {
   virtual void read_checkpoint(const std::string& path) = 0;
   /// \brief Throw core::UnstableError naming step and position if the state became unphysical.
   virtual void check_health() = 0;
+  /// \brief Test hook only (BIOTA_TEST_FAIL=health@<rank>): make this rank's state non-finite so
+  /// that the next check_health must find it. Default: throw UnstableError on this rank.
+  virtual void poison_for_test();
   /// \brief Extra progress-line text, e.g. "MLUPS 45.1". Collective (may reduce).
   virtual std::string progress() { return {}; }
   /// \brief Timer sections to list in the timing table, in order.

@@ -308,19 +308,14 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
   const long long broken = r.read_attribute_int("seaweed_broken_joints");
   bodies_->broken_local() = decomp_->rank() == 0 ? broken : 0;  // summed over ranks in metrics
   int width = 0;
-  auto rows = r.read_all_rows("seaweed_particles", width);
+  // Each rank reads its share of the rows; the redistribution sends them to their owners.
+  auto rows = r.read_rows_share("seaweed_particles", width);
   auto& s = bodies_->set();
   if (width != s.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
-  s.resize(0, 0);
   const std::size_t n = rows.size() / width;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double* row = rows.data() + k * width;
-    const Vec3 p{row[0], row[1], row[2]};
-    if (pcomm_->owner_of(p) != decomp_->rank()) continue;
-    const std::size_t i = s.n_owned();
-    s.resize(i + 1, i + 1);
-    s.unpack(i, false, row);
-  }
+  s.resize(n, n);
+  for (std::size_t k = 0; k < n; ++k) s.unpack(k, false, rows.data() + k * width);
+  pcomm_->redistribute(s);
   bodies_->begin_step();
   last_ = bodies_->clusters();
 }

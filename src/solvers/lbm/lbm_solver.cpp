@@ -8,6 +8,8 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include <limits>
+
 #include "io/checkpoint.hpp"
 #include "solvers/lbm/aa_sweep.hpp"
 #include "solvers/lbm/lattice.hpp"
@@ -606,6 +608,17 @@ void LbmSolver::check_health(double rho_min, double rho_max) const {
       "({:.4g}, {:.4g}, {:.4g}) m",
       step_, rho_report, rho_min, rho_max, x, y, z, (x + 0.5) * params_.dx, (y + 0.5) * params_.dx,
       (z + 0.5) * params_.dx));
+}
+
+void LbmSolver::poison_for_test() {
+  const Index3 n = decomp_.local_cells();
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i)
+        if (!solid_[f_.index(i, j, k)]) {
+          f_(i, j, k, 0) = std::numeric_limits<double>::quiet_NaN();
+          return;
+        }
 }
 
 void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {

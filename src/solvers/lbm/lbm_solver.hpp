@@ -120,6 +120,8 @@ class LbmSolver {
   /// \brief Throws core::UnstableError naming step, cell and position if a population is not
   /// finite or the density leaves [rho_min, rho_max].
   void check_health(double rho_min = 0.5, double rho_max = 2.0) const;
+  /// \brief Test hook: set one population of this rank's first fluid cell to NaN.
+  void poison_for_test();
   /// \brief Lattice updates performed by this rank so far (owned fluid cells x steps).
   double cell_updates() const { return updates_; }
 

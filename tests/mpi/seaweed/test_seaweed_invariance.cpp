@@ -173,6 +173,9 @@ TEST(SeaweedInvariance, SameStateOnOneTwoThreeRanksAndAcrossRestart) {
   run(3, dir, "", 2 * N, {{N, ck("np3_N")}, {2 * N, ck("np3_2N")}}, -1, &prog3);
   // Restart: the 1-rank checkpoint of step N continued on 2 ranks, with an output step between.
   run(2, dir, ck("np1_N"), 2 * N, {{2 * N, ck("restart_2N")}}, N + 5, nullptr);
+  // Each rank reads only its share of the particle rows: restarts 1 -> 3 and 3 -> 2 ranks.
+  run(3, dir, ck("np1_N"), 2 * N, {{2 * N, ck("restart13_2N")}}, -1, nullptr);
+  run(2, dir, ck("np3_N"), 2 * N, {{2 * N, ck("restart32_2N")}}, -1, nullptr);
   if (world != 0) return;
   std::printf("state at step N on 1 rank: %s; at 2N on 3 ranks: %s\n", prog1.c_str(),
               prog3.c_str());
@@ -191,6 +194,11 @@ TEST(SeaweedInvariance, SameStateOnOneTwoThreeRanksAndAcrossRestart) {
       "max relative difference %.3g\n",
       r.differing, r.max_rel);
   EXPECT_EQ(r.differing, 0);
+  for (const char* name : {"restart13_2N", "restart32_2N"}) {
+    const Diff d = compare(read_snapshot(ck("np3_2N")), read_snapshot(ck(name)));
+    std::printf("2N straight vs %s: %lld values differ\n", name, d.differing);
+    EXPECT_EQ(d.differing, 0) << name;
+  }
   // The restarted run's metrics CSV continues the time series (no second t = 0 row).
   std::ifstream csv(dir + "/out_np2/seaweed_clusters.csv");
   std::string line;

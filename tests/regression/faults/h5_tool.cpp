@@ -1,0 +1,59 @@
+/// \file h5_tool.cpp
+/// \brief Test helper for run_faults.py (no h5py on the test machines):
+///   h5_tool set-int <file> <attribute> <value>   overwrite a root integer attribute
+///   h5_tool same <a> <b> <dataset>               exit 0 if the double datasets are bitwise equal
+#include <hdf5.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::vector<double> read_all(const char* file, const char* name, std::vector<hsize_t>& dims) {
+  hid_t f = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return {};
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  hid_t s = H5Dget_space(d);
+  dims.resize(H5Sget_simple_extent_ndims(s));
+  H5Sget_simple_extent_dims(s, dims.data(), nullptr);
+  hsize_t n = 1;
+  for (auto x : dims) n *= x;
+  std::vector<double> v(n);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(s);
+  H5Dclose(d);
+  H5Fclose(f);
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 5 && std::string(argv[1]) == "set-int") {
+    hid_t f = H5Fopen(argv[2], H5F_ACC_RDWR, H5P_DEFAULT);
+    if (f < 0) return 1;
+    long long v = std::atoll(argv[4]);
+    hid_t a = H5Aopen(f, argv[3], H5P_DEFAULT);
+    const herr_t st = H5Awrite(a, H5T_NATIVE_LLONG, &v);
+    H5Aclose(a);
+    H5Fclose(f);
+    return st < 0;
+  }
+  if (argc == 5 && std::string(argv[1]) == "same") {
+    std::vector<hsize_t> da, db;
+    auto a = read_all(argv[2], argv[4], da), b = read_all(argv[3], argv[4], db);
+    if (a.empty() || da != db) {
+      std::printf("%s: missing or different shapes\n", argv[4]);
+      return 1;
+    }
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], 8) != 0;
+    std::printf("%s: %zu of %zu values differ\n", argv[4], differ, a.size());
+    return differ != 0;
+  }
+  std::fprintf(stderr, "usage: h5_tool set-int <file> <attr> <value> | same <a> <b> <dataset>\n");
+  return 2;
+}
