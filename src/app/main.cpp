@@ -12,6 +12,7 @@
 
 #include "app/flock_bench.hpp"
 #include "app/lbm_bench.hpp"
+#include "app/lsystem_command.hpp"
 #include "app/run_loop.hpp"
 #include "core/agreement.hpp"
 #include "core/config.hpp"
@@ -153,6 +154,18 @@ int main(int argc, char** argv) {
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
   bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
+  app::LSystemCommandOptions lsys;
+  auto* lsystem = cli.add_subcommand(
+      "lsystem", "derive an L-system file and print its modules and turtle geometry");
+  lsystem->add_option("file", lsys.file, ".lsys grammar file")->required();
+  lsystem->add_option("--derivations", lsys.derivations, "derivation steps (default: the file's)")
+      ->check(CLI::Range(0, 1000));
+  lsystem->add_option("--seed", lsys.seed, "seed of the stochastic productions");
+  lsystem->add_option("--tree-id", lsys.tree_id, "tree id (second key of the random stream)");
+  lsystem->add_option("--max-modules", lsys.max_modules, "stop with an error above this length")
+      ->check(CLI::Range(1LL, 1'000'000'000LL));
+  lsystem->add_option("--vtk", lsys.vtk, "write the segments as polylines with radius (.vtp)");
+  lsystem->add_flag("--print-string", lsys.print_string, "print the derived string");
   try {
     cli.parse(own_argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -173,6 +186,7 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
+    if (*lsystem) return app::run_lsystem_command(lsys, root);
     if (*bench && bench_what == "flock") {
       flock_opts.steps = bench_opts.steps == 200 ? flock_opts.steps : bench_opts.steps;
       return app::run_flock_bench(MPI_COMM_WORLD, flock_opts);

@@ -19,6 +19,7 @@ enum class RngPurpose : std::uint64_t {
   kGrowth = 1,
   kPlacement = 2,
   kInterference = 3,
+  kLSystem = 4,
   kBoidInit = 10,
   kBoidNoise = 11,
   kSandpile = 12,
