@@ -54,6 +54,9 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
 void install_signal_handlers() {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGINT, on_signal);
+  // mpirun forwards SIGUSR1 to the ranks and keeps waiting; on SIGTERM it sends SIGKILL 1 s later
+  // (odls_base_sigkill_timeout), too soon for a large checkpoint. Batch jobs send SIGUSR1.
+  std::signal(SIGUSR1, on_signal);
 }
 
 void declare_common_config(core::ConfigSchema& s) {
