@@ -49,6 +49,53 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
   if (len) cfg.fail(key, "cannot be used as a directory: " + err);
 }
 
+// Bytes of every regular file under `dir` (rank 0; output steps are rare, so a walk is cheap).
+long long tree_bytes(const std::string& dir) {
+  long long total = 0;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec)) total += static_cast<long long>(it->file_size(ec));
+  return total;
+}
+
+// Wall time and bytes of the output steps or checkpoints of this run (bytes: on disk, rank 0).
+struct IoTally {
+  int count = 0;
+  double seconds = 0;
+  long long bytes = 0;
+  void add(double s, long long b) {
+    ++count;
+    seconds += s;
+    bytes += b;
+  }
+  std::string line(const char* what) const {
+    if (count == 0) return {};
+    return fmt::format("{:<22} {:>5} writes, {:.3f} s, {:.3f} MB per write, {:.1f} MB/s\n", what,
+                       count, seconds / count, 1e-6 * double(bytes) / count,
+                       seconds > 0 ? 1e-6 * double(bytes) / seconds : 0.0);
+  }
+};
+
+// Point-to-point traffic per rank and step, min/avg/max over ranks; the "comm:" line is also the
+// machine-readable record the scaling driver (postproc/scaling.py) parses.
+std::string traffic_report(MPI_Comm comm, const core::CommCounter& c, long long steps) {
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  const double per[2] = {steps > 0 ? double(c.messages) / steps : 0.0,
+                         steps > 0 ? double(c.bytes) / steps : 0.0};
+  double mn[2], mx[2], sum[2];
+  MPI_Allreduce(per, mn, 2, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(per, mx, 2, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(per, sum, 2, MPI_DOUBLE, MPI_SUM, comm);
+  if (rank != 0) return {};
+  return fmt::format(
+      "comm: ranks {} messages/rank/step min {:.2f} avg {:.2f} max {:.2f} bytes/rank/step min "
+      "{:.0f} avg {:.0f} max {:.0f}\n",
+      size, mn[0], sum[0] / size, mx[0], mn[1], sum[1] / size, mx[1]);
+}
+
 }  // namespace
 
 void install_signal_handlers() {
@@ -113,9 +160,20 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   const long long progress_every = cfg.get_int("run.progress_interval");
   const long long health_every = cfg.get_int("run.health_interval");
   std::string last_checkpoint = restart_path.empty() ? "(none)" : restart_path;
+  IoTally out_io, ckpt_io;
+  auto output = [&]() {
+    const double t0 = MPI_Wtime();
+    const long long before = root ? tree_bytes(out_dir) : 0;
+    scenario->write_output();
+    out_io.add(MPI_Wtime() - t0, root ? tree_bytes(out_dir) - before : 0);
+  };
   auto checkpoint = [&](const char* why) {
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
+    const double t0 = MPI_Wtime();
     scenario->write_checkpoint(path);
+    std::error_code ec;
+    ckpt_io.add(MPI_Wtime() - t0,
+                root ? static_cast<long long>(std::filesystem::file_size(path, ec)) : 0);
     last_checkpoint = path;
     if (root) fmt::print("checkpoint ({}) written: {}\n", why, path);
   };
@@ -126,7 +184,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
                first_step, last_step, dt, last_step * dt);
   try {
-    if (restart_path.empty() || out_every > 0) scenario->write_output();
+    if (restart_path.empty() || out_every > 0) output();
     while (scenario->step_index() < last_step) {
       scenario->step();
       const long long s = scenario->step_index();
@@ -139,7 +197,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
           fmt::print("step {:>8}/{}  t = {:10.4f} s  {}  wall {:7.1f} s  ETA {:7.1f} s\n", s,
                      last_step, scenario->time(), extra, elapsed, eta);
       }
-      if ((out_every > 0 && s % out_every == 0) || s == last_step) scenario->write_output();
+      if ((out_every > 0 && s % out_every == 0) || s == last_step) output();
       if (ckpt_every > 0 && s % ckpt_every == 0 && s != last_step) checkpoint("interval");
       // A batch scheduler sends SIGTERM before killing the job: checkpoint and leave cleanly.
       int local = g_signal.load(), any = 0;
@@ -159,8 +217,11 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   }
   const double wall = MPI_Wtime() - wall0;
   std::string table = timers.report(comm, wall);
+  const long long steps = scenario->step_index() - first_step;
+  const std::string traffic = traffic_report(comm, scenario->comm_sent(), steps);
   if (root)
-    fmt::print("\ntiming breakdown ({} steps):\n{}", scenario->step_index() - first_step, table);
+    fmt::print("\ntiming breakdown ({} steps):\n{}{}{}{}", steps, table, traffic,
+               out_io.line("output"), ckpt_io.line("checkpoint"));
   return core::kExitOk;
 }
 

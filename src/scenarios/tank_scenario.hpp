@@ -24,6 +24,7 @@ class TankScenario : public Scenario {
   void write_checkpoint(const std::string& path) override;
   void read_checkpoint(const std::string& path) override;
   void check_health() override { lbm_->check_health(); }
+  core::CommCounter comm_sent() const override { return lbm_->halo_sent(); }
   std::string progress() override;
   std::vector<std::string> timer_sections() const override;
 
