@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Strong and weak scaling of the tank (LBM), seaweed, wind and flock scenarios in one command.
 
     python3 postproc/scaling.py [--ranks 1,2] [--count-ranks 3,4,8] [--scenarios tank,seaweed,wind,flock]
@@ -88,7 +88,15 @@ def main():
     ap.add_argument("--note", default="")
     ap.add_argument("--mpiexec", default="mpiexec")
     ap.add_argument("--biota", default=os.path.join(ROOT, "build", "biota"))
+    ap.add_argument("--plot-only", action="store_true", help="re-plot <out>/scaling.csv")
     a = ap.parse_args()
+    if a.plot_only:
+        with open(os.path.join(a.out, "scaling.csv")) as f:
+            rows = [dict(r, ranks=int(r["ranks"]), timed=int(r["timed"]),
+                         bytes_per_rank_step_avg=float(r["bytes_per_rank_step_avg"])) for r in csv.DictReader(f)]
+        plot(rows, a.out, sorted({r["ranks"] for r in rows if r["timed"]}),
+             sorted({r["ranks"] for r in rows if not r["timed"]}), rows[0]["note"], rows[0]["uptime"])
+        return
     timed = [int(x) for x in a.ranks.split(",") if x]
     counted = [int(x) for x in a.count_ranks.split(",") if x]
     size = SIZES[a.size]
