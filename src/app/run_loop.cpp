@@ -53,11 +53,61 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
   if (len) cfg.fail(key, "cannot be used as a directory: " + err);
 }
 
+// Bytes of every regular file under `dir` (rank 0; output steps are rare, so a walk is cheap).
+long long tree_bytes(const std::string& dir) {
+  long long total = 0;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec)) total += static_cast<long long>(it->file_size(ec));
+  return total;
+}
+
+// Wall time and bytes of the output steps or checkpoints of this run (bytes: on disk, rank 0).
+struct IoTally {
+  int count = 0;
+  double seconds = 0;
+  long long bytes = 0;
+  void add(double s, long long b) {
+    ++count;
+    seconds += s;
+    bytes += b;
+  }
+  std::string line(const char* what) const {
+    if (count == 0) return {};
+    return fmt::format("{:<22} {:>5} writes, {:.3f} s, {:.3f} MB per write, {:.1f} MB/s\n", what,
+                       count, seconds / count, 1e-6 * double(bytes) / count,
+                       seconds > 0 ? 1e-6 * double(bytes) / seconds : 0.0);
+  }
+};
+
+// Point-to-point traffic per rank and step, min/avg/max over ranks; the "comm:" line is also the
+// machine-readable record the scaling driver (postproc/scaling.py) parses.
+std::string traffic_report(MPI_Comm comm, const core::CommCounter& c, long long steps) {
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  const double per[2] = {steps > 0 ? double(c.messages) / steps : 0.0,
+                         steps > 0 ? double(c.bytes) / steps : 0.0};
+  double mn[2], mx[2], sum[2];
+  MPI_Allreduce(per, mn, 2, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(per, mx, 2, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(per, sum, 2, MPI_DOUBLE, MPI_SUM, comm);
+  if (rank != 0) return {};
+  return fmt::format(
+      "comm: ranks {} messages/rank/step min {:.2f} avg {:.2f} max {:.2f} bytes/rank/step min "
+      "{:.0f} avg {:.0f} max {:.0f}\n",
+      size, mn[0], sum[0] / size, mx[0], mn[1], sum[1] / size, mx[1]);
+}
+
 }  // namespace
 
 void install_signal_handlers() {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGINT, on_signal);
+  // mpirun forwards SIGUSR1 to the ranks and keeps waiting; on SIGTERM it sends SIGKILL 1 s later
+  // (odls_base_sigkill_timeout), too soon for a large checkpoint. Batch jobs send SIGUSR1.
+  std::signal(SIGUSR1, on_signal);
 }
 
 void declare_common_config(core::ConfigSchema& s) {
@@ -134,9 +184,20 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
                         scenario->step_index(), rank));
     });
   };
+  IoTally out_io, ckpt_io;
+  auto output = [&]() {
+    const double t0 = MPI_Wtime();
+    const long long before = root ? tree_bytes(out_dir) : 0;
+    phase("output", [&] { scenario->write_output(); });
+    out_io.add(MPI_Wtime() - t0, root ? tree_bytes(out_dir) - before : 0);
+  };
   auto checkpoint = [&](const char* why) {
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
+    const double t0 = MPI_Wtime();
     phase("checkpoint", [&] { scenario->write_checkpoint(path); });
+    std::error_code ec;
+    ckpt_io.add(MPI_Wtime() - t0,
+                root ? static_cast<long long>(std::filesystem::file_size(path, ec)) : 0);
     last_checkpoint = path;
     agreement.set_note("last good checkpoint: " + last_checkpoint);
     if (root) fmt::print("checkpoint ({}) written: {}\n", why, path);
@@ -147,9 +208,9 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   if (root)
     fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
                first_step, last_step, dt, last_step * dt);
-  std::string table;
+  std::string table, traffic;
   try {
-    if (restart_path.empty() || out_every > 0) phase("output", [&] { scenario->write_output(); });
+    if (restart_path.empty() || out_every > 0) output();
     int stop_signal = 0;  // reduced over ranks: every rank takes the same decisions from it
     while (scenario->step_index() < last_step) {
       // The step's agreement carries the signal flag: one small allreduce per step, as before.
@@ -182,8 +243,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
           fmt::print("step {:>8}/{}  t = {:10.4f} s  {}  wall {:7.1f} s  ETA {:7.1f} s\n", s,
                      last_step, scenario->time(), extra, elapsed, eta);
       }
-      if ((out_every > 0 && s % out_every == 0) || s == last_step)
-        phase("output", [&] { scenario->write_output(); });
+      if ((out_every > 0 && s % out_every == 0) || s == last_step) output();
       if (ckpt_every > 0 && s % ckpt_every == 0 && s != last_step) checkpoint("interval");
       // A batch scheduler sends SIGTERM before killing the job: checkpoint and leave cleanly.
       // Test hook: a real SIGTERM raised on one rank at one step (the fault suite).
@@ -201,7 +261,10 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     // Decided from the reduced flag: a rank's own flag may have been set after the last agreement.
     if (!stop_signal && scenario->step_index() == last_step) checkpoint("end of run");
     const double wall = MPI_Wtime() - wall0;
-    phase("end", [&] { table = timers.report(comm, wall); });
+    phase("end", [&] {
+      table = timers.report(comm, wall);
+      traffic = traffic_report(comm, scenario->comm_sent(), scenario->step_index() - first_step);
+    });
   } catch (const core::AgreedError& e) {
     if (root)
       fmt::print(stderr, "biota: error: {}\nbiota: last good checkpoint: {}\n", e.what(),
@@ -209,7 +272,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     return e.exit_code();
   }
   if (root)
-    fmt::print("\ntiming breakdown ({} steps):\n{}", scenario->step_index() - first_step, table);
+    fmt::print("\ntiming breakdown ({} steps):\n{}{}{}{}", scenario->step_index() - first_step,
+               table, traffic, out_io.line("output"), ckpt_io.line("checkpoint"));
   return core::kExitOk;
 }
 

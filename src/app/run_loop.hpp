@@ -20,7 +20,7 @@ void declare_common_config(core::ConfigSchema& schema);
 int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& restart_path,
                  const std::vector<std::string>& solver_options);
 
-/// \brief Install SIGTERM/SIGINT handlers that request a checkpoint and a clean exit.
+/// \brief Install SIGTERM/SIGINT/SIGUSR1 handlers that request a checkpoint and a clean exit.
 void install_signal_handlers();
 
 }  // namespace biota::app

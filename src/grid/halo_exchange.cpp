@@ -120,6 +120,9 @@ void HaloExchange::exchange() {
       core::Real* out = p.send[side].data();
       for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
                [&](core::Real& v) { *out++ = v; });
+      if (decomp_.neighbor(axis, side) !=
+          decomp_.rank())  // periodic image on this rank: no network
+        sent_.add(static_cast<long long>(p.send[side].size() * sizeof(core::Real)));
     }
     MPI_Startall(2, p.requests.data() + 2);
     MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
@@ -145,6 +148,8 @@ void HaloExchange::reverse_sum() {
         *out++ = v;
         v = 0;
       });
+      if (decomp_.neighbor(axis, side) != decomp_.rank())
+        sent_.add(static_cast<long long>(p.rsend[side].size() * sizeof(core::Real)));
     }
     MPI_Startall(2, p.rrequests.data() + 2);
     MPI_Waitall(4, p.rrequests.data(), MPI_STATUSES_IGNORE);

@@ -12,6 +12,7 @@
 #include <array>
 #include <vector>
 
+#include "core/comm_counter.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
 
@@ -48,6 +49,9 @@ class HaloExchange {
   void reverse_sum();
   /// \brief Point at another field of the same shape (e.g. after swapping LBM buffers).
   void rebind(Field<core::Real>& field) { field_ = &field; }
+  /// \brief Messages and bytes this rank has sent (exchange and reverse_sum; none to
+  /// MPI_PROC_NULL).
+  const core::CommCounter& sent() const { return sent_; }
 
  private:
   struct Pass {
@@ -70,6 +74,7 @@ class HaloExchange {
   FaceComponents faces_;
   std::vector<int> all_components_;  ///< 0..ncomp-1, what reverse_sum carries
   std::array<Pass, 3> passes_;
+  core::CommCounter sent_;
 };
 
 }  // namespace biota::grid

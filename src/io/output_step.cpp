@@ -109,6 +109,8 @@ void OutputStep::write() {
     writer->SetFileName((vtk_dir / piece).string().c_str());
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
+    writer->SetHeaderTypeToUInt64();  // 32-bit headers cap an appended array at 4 GiB
+    writer->SetIdTypeToInt64();
     if (!writer->Write())
       throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
   }

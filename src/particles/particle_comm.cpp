@@ -11,7 +11,13 @@ constexpr int kTagMigrate = 7100, kTagGhost = 7200, kTagUpdate = 7300, kTagRever
 
 // Exchange a vector of doubles with a pair of ranks: send `out` to `dest`, receive from `src`.
 std::vector<double> sendrecv(const std::vector<double>& out, int dest, int src, int tag,
-                             MPI_Comm comm) {
+                             MPI_Comm comm, core::CommCounter& sent) {
+  int me = 0;
+  MPI_Comm_rank(comm, &me);
+  if (dest != MPI_PROC_NULL && dest != me) {  // a periodic image on this rank is no network traffic
+    sent.add(sizeof(long long));
+    sent.add(static_cast<long long>(out.size() * sizeof(double)));
+  }
   long long nout = static_cast<long long>(out.size()), nin = 0;
   MPI_Sendrecv(&nout, 1, MPI_LONG_LONG, dest, tag, &nin, 1, MPI_LONG_LONG, src, tag, comm,
                MPI_STATUS_IGNORE);
@@ -97,7 +103,7 @@ void ParticleComm::migrate(ParticleSet& set) {
       set.remove_owned(gone);
       for (int side = 0; side < 2; ++side) {
         auto in = sendrecv(out[side], decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
-                           kTagMigrate + 2 * side, comm);
+                           kTagMigrate + 2 * side, comm, sent_);
         const std::size_t n = in.size() / w, first = set.n_owned();
         set.resize(first + n, first + n);
         for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, false, in.data() + k * w);
@@ -150,6 +156,8 @@ void ParticleComm::redistribute(ParticleSet& set) {
     rtotal += rcount[r];
   }
   rbuf.resize(rtotal);
+  for (int r = 0; r < P; ++r)
+    if (r != decomp_.rank() && scount[r] > 0) sent_.add(scount[r] * sizeof(double));
   MPI_Alltoallv(sbuf.data(), scount.data(), sdisp.data(), MPI_DOUBLE, rbuf.data(), rcount.data(),
                 rdisp.data(), MPI_DOUBLE, comm);
   const std::size_t n = rbuf.size() / w, first = set.n_owned();
@@ -191,7 +199,7 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
         }
       }
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
-                         kTagGhost + 2 * side, comm);
+                         kTagGhost + 2 * side, comm, sent_);
       const std::size_t n = in.size() / w, first = set.n_total();
       set.resize(set.n_owned(), first + n);
       for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, true, in.data() + k * w);
@@ -217,7 +225,7 @@ void ParticleComm::update_ghosts(ParticleSet& set) {
         for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
       }
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
-                         kTagUpdate + 2 * side, comm);
+                         kTagUpdate + 2 * side, comm, sent_);
       if (in.size() != p.recv_count * w) throw std::logic_error("ghost plan out of date");
       for (std::size_t k = 0; k < p.recv_count; ++k)
         set.unpack(p.recv_begin + k, true, in.data() + k * w);
@@ -245,7 +253,7 @@ void ParticleComm::reverse_sum(ParticleSet& set, const std::vector<int>& attrs) 
         }
       // Ghosts of pass (d, side) came from neighbor(d, 1-side); send their sums back there.
       auto in = sendrecv(out, decomp_.neighbor(d, 1 - side), decomp_.neighbor(d, side),
-                         kTagReverse + 2 * side, comm);
+                         kTagReverse + 2 * side, comm, sent_);
       if (in.size() != p.send.size() * w) throw std::logic_error("reverse plan mismatch");
       for (std::size_t k = 0; k < p.send.size(); ++k)
         for (std::size_t c = 0; c < w; ++c) cols[c][p.send[k]] += in[k * w + c];

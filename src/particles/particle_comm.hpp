@@ -15,6 +15,7 @@
 #include <array>
 #include <vector>
 
+#include "core/comm_counter.hpp"
 #include "grid/decomposition.hpp"
 #include "particles/particle_set.hpp"
 
@@ -49,6 +50,9 @@ class ParticleComm {
   const grid::Decomposition& decomposition() const { return decomp_; }
   /// \brief Rank owning the physical point p (clamped on walls, wrapped on periodic axes).
   int owner_of(const Vec3& p) const;
+  /// \brief Messages and bytes this rank has sent (face-neighbour passes: one count message and
+  /// one payload message per pass and side; redistribute's all-to-all counts one per peer).
+  const core::CommCounter& sent() const { return sent_; }
 
  private:
   // Rank coordinate along axis d of the physical coordinate v.
@@ -68,6 +72,7 @@ class ParticleComm {
   Vec3 origin_, lo_, hi_, glo_, ghi_;
   std::array<std::array<GhostPass, 2>, 3> plan_{};  // [axis][side sent to]
   bool have_plan_ = false;
+  core::CommCounter sent_;
 };
 
 }  // namespace biota::particles

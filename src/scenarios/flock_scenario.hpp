@@ -39,6 +39,7 @@ class FlockScenario : public Scenario {
 
   void step() override;
   long long step_index() const override { return step_; }
+  core::CommCounter comm_sent() const override { return pcomm_->sent(); }
   double time() const override { return step_ * dt_; }
   double dt() const override { return dt_; }
   void write_output() override;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/comm_counter.hpp"
 #include "core/config.hpp"
 #include "core/timers.hpp"
 
@@ -50,6 +51,9 @@ class Scenario {
   virtual std::string progress() { return {}; }
   /// \brief Timer sections to list in the timing table, in order.
   virtual std::vector<std::string> timer_sections() const = 0;
+  /// \brief Point-to-point messages and bytes this rank has sent so far (halo exchanges and
+  /// particle communication; collectives and library-internal traffic such as PETSc's excluded).
+  virtual core::CommCounter comm_sent() const { return {}; }
 };
 
 /// \brief Registry entry: the scenario's config keys and its factory.

@@ -37,6 +37,11 @@ class SeaweedScenario : public Scenario {
   const models::plants::SeaweedBodies& bodies() const { return *bodies_; }
   /// \brief The fluid solver (tests and diagnostics).
   const solvers::lbm::LbmSolver& lbm() const { return *lbm_; }
+  core::CommCounter comm_sent() const override {
+    core::CommCounter c = lbm_->halo_sent();
+    c += pcomm_->sent();
+    return c;
+  }
 
  private:
   void write_particles();

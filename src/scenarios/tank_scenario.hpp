@@ -25,6 +25,7 @@ class TankScenario : public Scenario {
   void read_checkpoint(const std::string& path) override;
   void check_health() override { lbm_->check_health(); }
   void poison_for_test() override { lbm_->poison_for_test(); }
+  core::CommCounter comm_sent() const override { return lbm_->halo_sent(); }
   std::string progress() override;
   std::vector<std::string> timer_sections() const override;
 

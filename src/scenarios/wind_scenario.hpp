@@ -34,6 +34,7 @@ class WindScenario : public Scenario {
   std::vector<std::string> timer_sections() const override;
 
   solvers::mac::MacSolver& solver() { return *mac_; }
+  core::CommCounter comm_sent() const override { return mac_->halo_sent(); }
 
  private:
   RunContext ctx_;

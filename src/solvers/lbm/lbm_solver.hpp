@@ -131,6 +131,12 @@ class LbmSolver {
   /// \brief Timers of the last steps: stream-collide, halo, boundaries [s] on this rank.
   double time_collide() const { return t_collide_; }
   double time_halo() const { return t_halo_; }
+  /// \brief Messages and bytes sent by this rank's halo exchanges (populations and velocity).
+  core::CommCounter halo_sent() const {
+    core::CommCounter c = halo_->sent();
+    c += halo_u_->sent();
+    return c;
+  }
   double time_boundary() const { return t_boundary_; }
 
  private:

@@ -72,6 +72,14 @@ class MacSolver {
  public:
   /// Ghost layers of every field: second-order upwinding reaches two faces upstream.
   static constexpr int kGhosts = 2;
+  /// \brief Messages and bytes sent by this rank's halo exchanges (PETSc's own traffic not
+  /// counted).
+  core::CommCounter halo_sent() const {
+    core::CommCounter c = halo_u_->sent();
+    c += halo_ustar_->sent();
+    c += halo_psi_->sent();
+    return c;
+  }
   /// Sections added to `timers`: wind.advection, wind.diffusion, wind.poisson, wind.correction,
   /// wind.halo, wind.boundary.
   MacSolver(const grid::Decomposition& decomp, MacParams params, core::Timers& timers);

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""A stand-in for SLURM's sbatch/scontrol and PBS's qsub, enough to run a Biota batch job end to end
+on one machine (tests/regression/batch). Jobs run synchronously, one after another.
+
+  sbatch SCRIPT    run SCRIPT with SLURM_* variables. The time limit falls when the job has printed
+                   its first progress line ("step N/M"): --signal=B:SIG@S from the #SBATCH lines
+                   sends SIG to the batch shell, and S s later the job's process group is
+                   SIGKILLed. Requeued jobs (scontrol requeue) run again with SLURM_RESTART_COUNT+1
+                   and the log appended.
+  scontrol requeue ID   (inside a job) mark the job for requeue.
+  qsub [-v VAR=val] SCRIPT   run SCRIPT with PBS_* variables; at the same progress "limit" SIGTERM
+                   (PBS at the walltime), SIGKILL 10 s later. A qsub from inside a job is queued
+                   and run when the job ends.
+"""
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+KILL_DELAY = 10  # s from PBS's SIGTERM to its SIGKILL (PBS Pro's default kill_delay)
+QUEUE = os.environ.get("FAKE_SCHED_DIR", "/tmp") + "/queue"
+
+
+def run_job(script, env, log, warn_sig, kill_after):
+    """Run one job segment; its "time limit" falls when the job has printed its first progress line
+    (a clock in steps, so the limit lands mid-run on a loaded or an idle machine alike): warn_sig to
+    the batch shell, SIGKILL to the job's process group kill_after s later if it still runs."""
+    offset = os.path.getsize(log) if os.path.exists(log) else 0
+    with open(log, "a") as out:
+        p = subprocess.Popen(["bash", script], env=env, stdout=out, stderr=subprocess.STDOUT,
+                             start_new_session=True)
+    warned_at = None
+    while p.poll() is None:
+        time.sleep(0.05)
+        if warned_at is None:
+            with open(log) as f:
+                f.seek(offset)
+                if re.search(r"^step +\d+/", f.read(), re.M):
+                    os.kill(p.pid, warn_sig)
+                    warned_at = time.time()
+        elif time.time() - warned_at > kill_after:
+            os.killpg(p.pid, signal.SIGKILL)
+    return p.wait()
+
+
+def sbatch(args):
+    script = args[-1]
+    text = open(script).read()
+    opt = dict(re.findall(r"^#SBATCH --([\w-]+)=(\S+)", text, re.M))
+    m = re.match(r"B:(\w+)@(\d+)", opt["signal"])
+    sig, before = getattr(signal, "SIG" + m.group(1)), int(m.group(2))
+    ntasks = int(opt.get("nodes", 1)) * int(opt.get("ntasks-per-node", 1))
+    jobid = "4242"
+    log = opt.get("output", "slurm-%j.out").replace("%j", jobid)
+    print(f"Submitted batch job {jobid}")
+    marker = QUEUE + ".requeue"
+    count, rc = 0, 0
+    while True:
+        env = dict(os.environ, SLURM_JOB_ID=jobid, SLURM_NTASKS=str(ntasks),
+                   SLURM_RESTART_COUNT=str(count), FAKE_IN_JOB="1")
+        rc = run_job(script, env, log, sig, before)
+        if not os.path.exists(marker):
+            break
+        os.remove(marker)
+        count += 1
+    return rc
+
+
+def scontrol(args):
+    if args[:1] != ["requeue"]:
+        sys.exit("fake scontrol: only 'requeue' is implemented")
+    open(QUEUE + ".requeue", "w").close()
+    return 0
+
+
+def qsub(args):
+    env_add = {}
+    if "-v" in args:
+        for kv in args[args.index("-v") + 1].split(","):
+            k, v = kv.split("=", 1)
+            env_add[k] = v
+    script = args[-1]
+    if os.environ.get("FAKE_IN_JOB"):
+        with open(QUEUE, "a") as q:
+            q.write(repr((script, env_add)) + "\n")
+        print("4243.fake")
+        return 0
+    jobs, rc = [(script, env_add)], 0
+    while jobs:
+        script, env_add = jobs.pop(0)
+        text = open(script).read()
+        outdir = re.search(r"^#PBS -o (\S+)", text, re.M).group(1)
+        env = dict(os.environ, PBS_JOBID="4243.fake", PBS_O_WORKDIR=os.getcwd(), FAKE_IN_JOB="1",
+                   **env_add)
+        rc = run_job(script, env, os.path.join(outdir, "pbs.out"), signal.SIGTERM, KILL_DELAY)
+        if os.path.exists(QUEUE):
+            jobs += [eval(line) for line in open(QUEUE)]
+            os.remove(QUEUE)
+    return rc
+
+
+if __name__ == "__main__":
+    tool = os.path.basename(sys.argv[0])
+    sys.exit({"sbatch": sbatch, "scontrol": scontrol, "qsub": qsub}[tool](sys.argv[1:]))
