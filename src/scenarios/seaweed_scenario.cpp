@@ -36,13 +36,15 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
              "minimum distance between seeds");
   s.add_bool("seaweed.two_way", true, "plants act back on the water (false: the paper's one-way)");
   s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
-  s.add_int("seaweed.metrics_interval", 6, 1, std::nullopt, "physics steps between metric rows");
+  s.add_int("seaweed.metrics_interval", 6, 1, 1'000'000'000, "physics steps between metric rows");
 }
 
 SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& cfg = ctx.config;
   auto params = solvers::lbm::LbmParams::from_config(cfg);
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
+      grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   lbm_->enable_force_field();
   const double dx = lbm_->units().dx();
@@ -117,29 +119,18 @@ void SeaweedScenario::open_csv() {
   }
   const std::string path = ctx_.output_dir + "/seaweed_clusters.csv";
   const std::string header = "time,clusters,largest,largest_share,contacts,broken_joints,joints";
-  std::vector<std::string> keep;
-  if (step_ > 0) {
-    std::ifstream in(path);
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.empty() || line == header) continue;
-      if (std::stod(line.substr(0, line.find(','))) <= time() + 0.5 * dt_) keep.push_back(line);
-    }
-  }
-  std::filesystem::create_directories(ctx_.output_dir);
-  csv_.open(path, std::ios::trunc);
-  csv_ << header << "\n";
-  for (const auto& l : keep) csv_ << l << "\n";
-  csv_ << std::flush;
+  if (step_ > 0)
+    csv_.resume(path, header, time() + 0.5 * dt_);
+  else
+    csv_.start(path, header);
   if (step_ == 0) record_metrics();
 }
 
 void SeaweedScenario::record_metrics() {
   last_ = bodies_->clusters();
   if (decomp_->rank() == 0)
-    csv_ << fmt::format("{:.9f},{},{},{:.6f},{},{},{}\n", time(), last_.clusters, last_.largest,
-                        last_.largest_share, last_.contacts, last_.broken_joints, last_.joints)
-         << std::flush;
+    csv_.row(fmt::format("{:.9f},{},{},{:.6f},{},{},{}", time(), last_.clusters, last_.largest,
+                         last_.largest_share, last_.contacts, last_.broken_joints, last_.joints));
 }
 
 void SeaweedScenario::step() {

@@ -14,7 +14,9 @@ void TankScenario::declare_config(core::ConfigSchema& schema) {
 
 TankScenario::TankScenario(const RunContext& ctx) : ctx_(ctx) {
   auto params = solvers::lbm::LbmParams::from_config(ctx.config);
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
+      grid::GridKeys{ctx.config.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   if (decomp_->rank() == 0)
     fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),

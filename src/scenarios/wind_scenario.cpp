@@ -14,9 +14,9 @@ namespace biota::scenarios {
 using solvers::mac::BoundaryType;
 
 void WindScenario::declare_config(core::ConfigSchema& s) {
-  s.add_int("wind.nx", 80, 1, std::nullopt, "cells along x (the wind direction)");
-  s.add_int("wind.ny", 40, 1, std::nullopt, "cells along y (crosswind)");
-  s.add_int("wind.nz", 40, 1, std::nullopt, "cells along z (vertical)");
+  s.add_int("wind.nx", 80, 1, 100000, "cells along x (the wind direction)");
+  s.add_int("wind.ny", 40, 1, 100000, "cells along y (crosswind)");
+  s.add_int("wind.nz", 40, 1, 100000, "cells along z (vertical)");
   s.add_real("wind.dx", 0.4, 0.0, std::nullopt, "m", "cubic cell size", true);
   s.add_real("wind.viscosity", 1.5e-5, 0.0, std::nullopt, "m^2/s",
              "kinematic viscosity nu (air: 1.5e-5)");
@@ -111,7 +111,9 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   linalg::initialize(ctx.solver_options);
   std::array<bool, 3> periodic;
   for (int a = 0; a < 3; ++a) periodic[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, p.cells, periodic);
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, p.cells, periodic, core::Index3{0, 0, 0},
+      grid::GridKeys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}});
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
   mac_->project_initial();
   const auto st = mac_->next_dt();
