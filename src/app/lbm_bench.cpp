@@ -2,12 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
+#include "solvers/lbm/lattice.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
+#include "solvers/lbm/stream_collide.hpp"
 
 namespace biota::app {
 namespace {
@@ -36,6 +44,76 @@ double stream_triad(MPI_Comm comm) {
   return 24.0 * n * size / best / 1e9;
 }
 
+// The RRZE lbm-benchmark-kernels peer (docs/performance-lbm.md): $BIOTA_LBM_PEER, else
+// ../shared/peers/run-lbm-peer.sh next to the working directory or the source tree.
+std::string find_peer() {
+  if (const char* env = std::getenv("BIOTA_LBM_PEER")) return env;
+  for (const std::string dir : {std::string("."), std::string(BIOTA_SOURCE_DIR)}) {
+    const auto p = std::filesystem::path(dir) / ".." / "shared" / "peers" / "run-lbm-peer.sh";
+    if (std::filesystem::exists(p)) return std::filesystem::weakly_canonical(p).string();
+  }
+  return {};
+}
+
+// Rank 0 runs the peer with one thread per rank while the other ranks wait without spinning
+// (a busy MPI barrier would take the cores the peer's threads need). Returns the peer's lines
+// and its list-aa-pv-soa figure (0 when absent).
+double run_peer(MPI_Comm comm, int threads, int size, std::vector<std::string>& lines) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  double best = 0;
+  if (rank == 0) {
+    const std::string cmd =
+        fmt::format("'{}' {} {}x{}x{} 2>&1", find_peer(), threads, size, size, size);
+    if (FILE* pipe = popen(cmd.c_str(), "r")) {
+      char buf[512];
+      while (std::fgets(buf, sizeof buf, pipe)) {
+        std::string line(buf);
+        if (!line.empty() && line.back() == '\n') line.pop_back();
+        lines.push_back(line);
+        const auto at = line.find(": ");
+        if (line.rfind("rrze list-aa-pv-soa", 0) == 0 && at != std::string::npos)
+          best = std::atof(line.c_str() + at + 2);
+      }
+      pclose(pipe);
+    }
+  }
+  MPI_Request req;
+  MPI_Ibarrier(comm, &req);
+  for (int done = 0; !done;) {
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (!done) usleep(20000);
+  }
+  MPI_Bcast(&best, 1, MPI_DOUBLE, 0, comm);
+  return best;
+}
+
+// The former production scheme, kept as a benchmark variant: two population buffers, fused
+// pull-stream + collide (D3Q19 BGK, Guo force field), on each rank's block, no boundaries or halo.
+double two_grid_mlups(MPI_Comm comm, const grid::Decomposition& decomp, int steps) {
+  using L = solvers::lbm::D3Q19;
+  const auto n = decomp.local_cells();
+  grid::Field<double> a(n, L::Q, 1), b(n, L::Q, 1), force(n, 3, 1, 1e-6);
+  // Every cell of both buffers at rest, ghosts too: they stay there and feed the edge cells.
+  for (int q = 0; q < L::Q; ++q)
+    for (auto* g : {&a, &b}) std::fill(g->component(q), g->component(q) + g->plane_size(), L::w[q]);
+  solvers::lbm::SweepArgs args{&a,      &b,      &force,        nullptr,
+                               nullptr, nullptr, {0, 0, -1e-7}, solvers::lbm::Relaxation::bgk(0.6)};
+  auto sweep = [&] {
+    solvers::lbm::stream_collide<L, false, solvers::lbm::ForceMode::kField, false, false>(args);
+    grid::Field<double>* next = const_cast<grid::Field<double>*>(args.src);
+    args.src = args.dst;
+    args.dst = next;
+  };
+  for (int s = 0; s < 4; ++s) sweep();
+  MPI_Barrier(comm);
+  const double t0 = MPI_Wtime();
+  for (int s = 0; s < steps; ++s) sweep();
+  MPI_Barrier(comm);
+  const double t = MPI_Wtime() - t0;
+  return double(decomp.global_cells().product()) * steps / t / 1e6;
+}
+
 struct Case {
   const char* lattice;
   const char* collision;
@@ -47,16 +125,32 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
+  std::vector<std::string> peer_lines;
+  const std::string peer = opts.peer ? find_peer() : std::string();
+  const double peer_mflups = peer.empty() ? 0.0 : run_peer(comm, size, opts.size, peer_lines);
   const double bw = stream_triad(comm);
   if (rank == 0) {
     fmt::print("biota bench lbm: {}^3 cells, {} ranks, {} timed steps per case\n", opts.size, size,
                opts.steps);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
-    fmt::print("{:<6} {:<4} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "lattice", "coll", "MLUPS",
-               "roof(16Q)", "roof(24Q)", "%16Q", "%24Q", "halo%");
+    if (!opts.peer)
+      fmt::print("peer: not run (--no-peer)\n");
+    else if (peer.empty())
+      fmt::print(
+          "peer: run-lbm-peer.sh not found (looked at $BIOTA_LBM_PEER, ../shared/peers/ and {}/../"
+          "shared/peers/); no peer figure\n",
+          BIOTA_SOURCE_DIR);
+    else
+      for (const auto& l : peer_lines) fmt::print("peer ({}): {}\n", peer, l);
+    fmt::print("{:<6} {:<4} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "lattice", "coll",
+               "MLUPS", "roof(16Q)", "roof(24Q)", "%16Q", "%24Q", "halo%", "bound%", "x peer");
   }
   for (Case c :
        {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"}, Case{"D3Q19", "trt"}}) {
+    const std::string name = std::string(c.lattice) + "/" + c.collision;
+    if (!opts.cases.empty() &&
+        std::find(opts.cases.begin(), opts.cases.end(), name) == opts.cases.end())
+      continue;
     // The tank configuration: walls, free-slip top, inlet jet, outlet annulus, Guo forcing on.
     solvers::lbm::LbmParams p;
     p.lattice = c.lattice;
@@ -80,7 +174,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     solvers::lbm::LbmSolver lbm(decomp, p);
     lbm.enable_force_field();
     for (int s = 0; s < 10; ++s) lbm.step(false);  // warm-up
-    const double h0 = lbm.time_halo();
+    const double h0 = lbm.time_halo(), b0 = lbm.time_boundary();
     MPI_Barrier(comm);
     const double t0 = MPI_Wtime();
     for (int s = 0; s < opts.steps; ++s) lbm.step(false);
@@ -88,16 +182,38 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     const double t = MPI_Wtime() - t0;
     double halo = lbm.time_halo() - h0, halo_max = 0;
     MPI_Allreduce(&halo, &halo_max, 1, MPI_DOUBLE, MPI_MAX, comm);
+    double bound = lbm.time_boundary() - b0, bound_max = 0;
+    MPI_Allreduce(&bound, &bound_max, 1, MPI_DOUBLE, MPI_MAX, comm);
     const double mlups = double(opts.size) * opts.size * opts.size * opts.steps / t / 1e6;
     const int q = lbm.q();
     // 16Q: read Q + write Q doubles (the in-place bound); 24Q adds the write-allocate of the
     // second buffer that a two-grid scheme without non-temporal stores pays.
     const double roof16 = bw * 1e9 / (16.0 * q) / 1e6, roof24 = bw * 1e9 / (24.0 * q) / 1e6;
+    // The peer is bare D3Q19 (no boundaries, forcing or MPI): compare like lattices only.
+    const std::string ratio = peer_mflups > 0 && std::string(c.lattice) == "D3Q19"
+                                  ? fmt::format("{:.2f}", mlups / peer_mflups)
+                                  : std::string("-");
     if (rank == 0)
-      fmt::print("{:<6} {:<4} {:>9.1f} {:>11.1f} {:>11.1f} {:>8.0f}% {:>8.0f}% {:>8.1f}%\n",
-                 c.lattice, c.collision, mlups, roof16, roof24, 100 * mlups / roof16,
-                 100 * mlups / roof24, 100 * halo_max / t);
+      fmt::print(
+          "{:<6} {:<4} {:>9.1f} {:>11.1f} {:>11.1f} {:>8.0f}% {:>8.0f}% {:>8.1f}% {:>8.1f}% "
+          "{:>9}\n",
+          c.lattice, c.collision, mlups, roof16, roof24, 100 * mlups / roof16, 100 * mlups / roof24,
+          100 * halo_max / t, 100 * bound_max / t, ratio);
   }
+  if (opts.two_grid) {
+    grid::Decomposition decomp(comm, {opts.size, opts.size, opts.size}, {false, false, false});
+    const double mlups = two_grid_mlups(comm, decomp, opts.steps);
+    if (rank == 0)
+      fmt::print(
+          "D3Q19  bgk  {:>9.1f}  (former two-grid pull sweep, kernel only: no boundaries, "
+          "no halo) x peer {}\n",
+          mlups, peer_mflups > 0 ? fmt::format("{:.2f}", mlups / peer_mflups) : std::string("-"));
+  }
+  if (rank == 0 && peer_mflups > 0)
+    fmt::print(
+        "x peer: MLUPS / the peer's list-aa-pv-soa {:.1f} MFLUP/s with {} thread(s), same "
+        "run\n",
+        peer_mflups, size);
   return 0;
 }
 

@@ -4,12 +4,18 @@
 /// measured in the same run (STREAM triad) and the roofline it implies.
 #include <mpi.h>
 
+#include <string>
+#include <vector>
+
 namespace biota::app {
 
 /// \brief Options of the LBM benchmark.
 struct LbmBenchOptions {
-  int size = 100;   ///< cells per axis
-  int steps = 200;  ///< timed steps per case
+  int size = 100;                  ///< cells per axis
+  int steps = 200;                 ///< timed steps per case
+  std::vector<std::string> cases;  ///< "D3Q19/bgk" etc.; empty = all four
+  bool peer = true;                ///< run the RRZE peer (run-lbm-peer.sh) when it is found
+  bool two_grid = true;            ///< also time the former two-grid pull sweep (kernel only)
 };
 
 /// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.

@@ -142,6 +142,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"lbm", "flock"}));
   bench->add_option("--size", bench_opts.size, "cells per axis");
   bench->add_option("--steps", bench_opts.steps, "timed steps per case");
+  bench->add_option("--case", bench_opts.cases,
+                    "lbm: only these cases, e.g. D3Q19/bgk (repeatable)");
+  bench->add_flag("!--no-peer", bench_opts.peer, "lbm: do not run the RRZE peer kernels");
+  bench->add_flag("!--no-two-grid", bench_opts.two_grid,
+                  "lbm: do not time the former two-grid sweep");
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
   bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");

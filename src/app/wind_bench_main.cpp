@@ -4,6 +4,10 @@
 /// grid sweep (manufactured solution) for the multigrid iteration counts. Not a test.
 ///
 ///   mpiexec -n 2 build/biota_bench_wind --size 100 --steps 5 [--sweep 32,64,128] -- <PETSc opts>
+///   mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare   # the preconditioners
+///
+/// `--compare` runs the step case (and the sweep, if given) once per preconditioner of CG in one
+/// run: GAMG, BoomerAMG, the cell-centred PCMG and hypre's PFMG, each the peer of the others.
 #include <mpi.h>
 
 #include <cmath>
@@ -13,6 +17,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/timers.hpp"
@@ -30,8 +35,15 @@ double max_over_ranks(double v) {
   return g;
 }
 
-void step_breakdown(int n, int steps, bool root) {
+struct StepResult {
+  double seconds_per_step = 0, iterations_per_solve = 0, seconds_per_solve = 0, divergence = 0;
+  double setup_seconds = 0;
+};
+
+StepResult step_breakdown(int n, int steps, bool root, const std::string& options = "") {
   MacParams p;
+  p.poisson_options = options;
+  p.poisson_options_key = "--compare";
   p.cells = {n, n, n};
   p.dx = 0.2;
   auto& b = p.boundaries;
@@ -48,7 +60,9 @@ void step_breakdown(int n, int steps, bool root) {
   };
   grid::Decomposition d(MPI_COMM_WORLD, p.cells, {false, true, false});
   core::Timers warm, timers;
+  const double ts = MPI_Wtime();
   MacSolver s(d, p, warm);
+  const double setup = max_over_ranks(MPI_Wtime() - ts);
   s.project_initial();
   for (int i = 0; i < 3; ++i) s.step();  // develop the flow a little, warm caches
   MacSolver* sp = &s;
@@ -95,9 +109,10 @@ void step_breakdown(int n, int steps, bool root) {
         "Poisson: %.1f iterations/solve, %.4f s/solve (KSPSolve only), rel. divergence %.1e\n",
         double(its) / solves, solve_per, t.last_stats().max_divergence);
   }
+  return {wall / steps, double(its) / solves, solve_per, t.last_stats().max_divergence, setup};
 }
 
-void poisson_sweep(const std::vector<int>& sizes, bool root) {
+void poisson_sweep(const std::vector<int>& sizes, bool root, const std::string& options = "") {
   if (root)
     std::printf(
         "\n== Poisson sweep, Neumann cube, manufactured cos solution (options as given)\n"
@@ -110,7 +125,8 @@ void poisson_sweep(const std::vector<int>& sizes, bool root) {
     linalg::PoissonSolver solver(d, dx,
                                  {{{linalg::PressureBC::kNeumann, linalg::PressureBC::kNeumann},
                                    {linalg::PressureBC::kNeumann, linalg::PressureBC::kNeumann},
-                                   {linalg::PressureBC::kNeumann, linalg::PressureBC::kNeumann}}});
+                                   {linalg::PressureBC::kNeumann, linalg::PressureBC::kNeumann}}},
+                                 nullptr, options, "--compare");
     const double setup = max_over_ranks(MPI_Wtime() - ts);
     const auto n = d.local_cells();
     const auto lo = d.local_box().lo;
@@ -149,9 +165,12 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int n = 100, steps = 5;
   std::vector<int> sweep;
+  bool compare = false;
   for (int i = 1; i < own; ++i) {
     std::string a = argv[i];
-    if (a == "--size" && i + 1 < own)
+    if (a == "--compare")
+      compare = true;
+    else if (a == "--size" && i + 1 < own)
       n = std::atoi(argv[++i]);
     else if (a == "--steps" && i + 1 < own)
       steps = std::atoi(argv[++i]);
@@ -167,8 +186,34 @@ int main(int argc, char** argv) {
       std::printf(
           "biota_bench_wind: %d rank(s), hardware threads %u; machine load not controlled\n", size,
           std::thread::hardware_concurrency());
-    if (n > 0) step_breakdown(n, steps, rank == 0);
-    if (!sweep.empty()) poisson_sweep(sweep, rank == 0);
+    if (!compare) {
+      if (n > 0) step_breakdown(n, steps, rank == 0);
+      if (!sweep.empty()) poisson_sweep(sweep, rank == 0);
+    } else {
+      // Each configuration in turn; its options are removed before the next one is set.
+      const std::vector<std::pair<std::string, std::string>> configs = {
+          {"GAMG", "-poisson_pc_type gamg"},
+          {"BoomerAMG", "-poisson_pc_type hypre"},
+          {"PCMG cell-centred", "-poisson_pc_type mg"},
+          {"PFMG", "-poisson_pc_type pfmg"}};
+      std::vector<StepResult> results;
+      for (const auto& [name, opts] : configs) {
+        if (rank == 0) std::printf("\n#### %s (%s)\n", name.c_str(), opts.c_str());
+        if (n > 0) results.push_back(step_breakdown(n, steps, rank == 0, opts));
+        if (!sweep.empty()) poisson_sweep(sweep, rank == 0, opts);
+        linalg::clear_options(opts);
+      }
+      if (rank == 0 && n > 0) {
+        std::printf("\n== comparison at %d^3 on %d rank(s), %d steps each\n", n, size, steps);
+        std::printf("%-20s %10s %10s %10s %10s %10s\n", "preconditioner", "s/step", "its/solve",
+                    "s/solve", "setup [s]", "rel. div");
+        for (std::size_t c = 0; c < results.size(); ++c)
+          std::printf("%-20s %10.4f %10.1f %10.4f %10.3f %10.1e\n", configs[c].first.c_str(),
+                      results[c].seconds_per_step, results[c].iterations_per_solve,
+                      results[c].seconds_per_solve, results[c].setup_seconds,
+                      results[c].divergence);
+      }
+    }
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "biota_bench_wind: error: %s\n", e.what());
     code = 1;

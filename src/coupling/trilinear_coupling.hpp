@@ -10,6 +10,9 @@
 /// interpolation and spreading, so the transfer is adjoint and the coupling conserves momentum.
 /// On a wall (non-periodic) axis the sampling point is clamped to the first/last cell centre, so no
 /// weight ever lands outside the domain.
+#include <cassert>
+#include <cmath>
+
 #include "core/types.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
@@ -24,6 +27,14 @@ struct Stencil {
   int i = 0, j = 0, k = 0;
   Real w[2][2][2]{};
 };
+
+/// \brief True when the 2x2x2 stencil lies inside the field's ghosted block (debug checks).
+inline bool stencil_in_field(const grid::Field<Real>& field, const Stencil& s) {
+  const int g = field.ghosts();
+  const auto& n = field.cells();
+  return s.i >= -g && s.j >= -g && s.k >= -g && s.i + 1 < n.x + g && s.j + 1 < n.y + g &&
+         s.k + 1 < n.z + g;
+}
 
 /// \brief Builds stencils for owned particles and applies them to ghosted fields.
 class TrilinearCoupling {
@@ -55,6 +66,9 @@ class TrilinearCoupling {
   }
   /// \brief Interpolate components 0..2 of `field` (ghosts must be current).
   static Vec3 interpolate(const grid::Field<Real>& field, const Stencil& s) {
+    // Out of the block: an owned particle drifted more than (ghosts - 1/2) cells out of its
+    // rank's box before migrating (the Verlet skin is validated against this at start-up).
+    assert(stencil_in_field(field, s));
     Vec3 v;
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
@@ -68,6 +82,7 @@ class TrilinearCoupling {
   /// \brief Add `value` (components 0..2) with the stencil's weights; follow with
   /// HaloExchange::reverse_sum() so that contributions in ghost cells reach their owners.
   static void spread(grid::Field<Real>& field, const Stencil& s, const Vec3& value) {
+    assert(stencil_in_field(field, s));
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
         for (int c = 0; c < 2; ++c) {
@@ -92,6 +107,23 @@ class TrilinearCoupling {
         }
   }
   Real dx() const { return dx_; }
+
+  // ---- the point-wise interface shared with MacCoupling (used by particle_transfer.hpp) ----
+  /// \brief Interpolate the 3 components of `field` at p.
+  Vec3 interpolate_at(const grid::Field<Real>& field, const Vec3& p) const {
+    return interpolate(field, stencil(p));
+  }
+  /// \brief spread() at p (owned and ghost cells; follow with HaloExchange::reverse_sum()).
+  void spread_at(grid::Field<Real>& field, const Vec3& p, const Vec3& value) const {
+    spread(field, stencil(p), value);
+  }
+  /// \brief spread_owned() at p.
+  void spread_owned_at(grid::Field<Real>& field, const Vec3& p, const Vec3& value) const {
+    spread_owned(field, stencil(p), value);
+  }
+  /// \brief Farthest a point outside this rank's box can lie and still put weight on an owned
+  /// cell: half a cell (the owned boundary cell's centre is dx/2 inside).
+  Real reach() const { return 0.5 * dx_; }
 
  private:
   const grid::Decomposition& decomp_;

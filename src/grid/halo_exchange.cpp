@@ -1,5 +1,11 @@
 #include "grid/halo_exchange.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/error.hpp"
+
 namespace biota::grid {
 
 FaceComponents all_components(int ncomp) {
@@ -37,9 +43,27 @@ void HaloExchange::for_slab(int axis, int start, const std::vector<int>& comps, 
   }
 }
 
+void check_halo_width(const Decomposition& decomp, int ghosts,
+                      const std::array<std::string, 3>& cell_keys) {
+  for (int d = 0; d < 3; ++d) {
+    const int n = decomp.global_cells()[d], dims = decomp.dims()[d];
+    // One rank along a periodic axis exchanges with itself: its 2D (1-cell) cases are uniform
+    // along that axis, which the self-copy keeps; only distinct neighbours are checked.
+    const int thinnest = n / dims;  // block sizes differ by at most one (decomposition.hpp)
+    if (dims == 1 || thinnest >= ghosts) continue;
+    throw core::InputError(fmt::format(
+        "{} = {} over {} ranks along axis {} ({} ranks in all) gives {}-cell rank blocks, "
+        "thinner than the {}-cell halo; use at least {} cells per rank along that axis (at most "
+        "{} ranks) or more cells",
+        cell_keys[d], n, dims, d, decomp.size(), thinnest, ghosts, ghosts,
+        std::max(1, n / ghosts)));
+  }
+}
+
 HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field,
                            FaceComponents faces)
     : decomp_(decomp), field_(&field), faces_(std::move(faces)) {
+  check_halo_width(decomp, field.ghosts());
   for (int c = 0; c < field.ncomp(); ++c) all_components_.push_back(c);
   const int g = field.ghosts();
   for (int axis = 0; axis < 3; ++axis) {

@@ -1,4 +1,6 @@
 #pragma once
+#include <array>
+#include <string>
 /// \file halo_exchange.hpp
 /// \brief Ghost-layer exchange of a Field with persistent MPI requests.
 ///
@@ -20,6 +22,14 @@ using FaceComponents = std::array<std::array<std::vector<int>, 2>, 3>;
 
 /// \brief All components on every face.
 FaceComponents all_components(int ncomp);
+
+/// \brief Throws core::InputError (the same on every rank, so no rank is left in a collective)
+/// when some rank's block along an axis with neighbours is thinner than `ghosts` cells: the
+/// neighbour would pack its own stale ghosts into our halo. `cell_keys` names the deck keys that
+/// set the cell counts per axis (for the message).
+void check_halo_width(const Decomposition& decomp, int ghosts,
+                      const std::array<std::string, 3>& cell_keys = {
+                          "cells along x", "cells along y", "cells along z"});
 
 /// \brief Fills the ghost layers of one field from its neighbours (and periodic images).
 class HaloExchange {

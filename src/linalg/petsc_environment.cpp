@@ -100,6 +100,12 @@ void insert_prefixed_options(const std::string& options, const std::string& pref
   }
 }
 
+void clear_options(const std::string& options) {
+  for (const auto& w : split_words(options))
+    if (is_option_name(w))
+      check(PetscOptionsClearValue(nullptr, w.c_str()), "PetscOptionsClearValue");
+}
+
 void check_unused_options(const std::string& prefix, const std::string& source) {
   PetscInt n = 0;
   char** names = nullptr;

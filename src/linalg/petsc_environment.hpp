@@ -32,6 +32,9 @@ std::string version();
 /// with `-<prefix>`; otherwise throws core::InputError naming `key`.
 void insert_prefixed_options(const std::string& options, const std::string& prefix,
                              const std::string& key);
+/// \brief Remove every option named in `options` from the database (a benchmark comparing
+/// solvers in one run sets one configuration after the other).
+void clear_options(const std::string& options);
 /// \brief Throw core::InputError listing every option under `-<prefix>` that no PETSc object
 /// has queried (a misspelt or non-existent option). Call after the objects are set up.
 void check_unused_options(const std::string& prefix, const std::string& source);

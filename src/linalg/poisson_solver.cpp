@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "linalg/cell_multigrid.hpp"
 #include "linalg/petsc_environment.hpp"
 
 #define BIOTA_PETSC(call)                                                                  \
@@ -17,6 +18,19 @@
   } while (0)
 
 namespace biota::linalg {
+namespace {
+// Default preconditioner of CG (docs/wind.md, "Pressure Poisson solve", for the comparison).
+constexpr const char* kDefaultPC = PCPFMG;
+
+/// The preconditioner the options ask for (they are read again by KSPSetFromOptions); the matrix
+/// type and the multigrid hierarchy depend on it, so it is needed before the matrix exists.
+std::string requested_pc_type() {
+  char buf[64] = {0};
+  PetscBool set = PETSC_FALSE;
+  BIOTA_PETSC(PetscOptionsGetString(nullptr, "poisson_", "-pc_type", buf, sizeof buf, &set));
+  return set ? std::string(buf) : std::string(kDefaultPC);
+}
+}  // namespace
 
 struct PoissonSolver::Impl {
   MPI_Comm comm = MPI_COMM_NULL;  // decomposition communicator, ranks in PETSc (x-fastest) order
@@ -69,6 +83,11 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
                            P.z, 1, 1, l[0].data(), l[1].data(), l[2].data(), &m.da));
   BIOTA_PETSC(DMSetFromOptions(m.da));
   BIOTA_PETSC(DMSetUp(m.da));
+  // hypre's structured multigrids (PFMG, SMG) work on hypre's own structured matrix; the CG
+  // iteration around them then multiplies with it too.
+  const std::string pc_type = requested_pc_type();
+  const bool hypre_struct = pc_type == PCPFMG || pc_type == PCSMG;
+  if (hypre_struct) BIOTA_PETSC(DMSetMatType(m.da, MATHYPRESTRUCT));
   if (petsc_owned_box().lo != m.box.lo || petsc_owned_box().hi != m.box.hi)
     throw std::logic_error("PoissonSolver: DMDA ownership differs from the Decomposition");
 
@@ -155,15 +174,26 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
   // ---- solver: defaults, then options (deck and command line) ----------------------------------
   BIOTA_PETSC(KSPCreate(m.comm, &m.ksp));
   BIOTA_PETSC(KSPSetOptionsPrefix(m.ksp, "poisson_"));
-  BIOTA_PETSC(KSPSetDM(m.ksp, m.da));  // geometric multigrid (-poisson_pc_type mg) needs it
-  BIOTA_PETSC(KSPSetDMActive(m.ksp, PETSC_FALSE));
   BIOTA_PETSC(KSPSetOperators(m.ksp, m.A, m.A));
   BIOTA_PETSC(KSPSetType(m.ksp, KSPCG));
   PC pc;
   BIOTA_PETSC(KSPGetPC(m.ksp, &pc));
-  // GAMG: at 100^3 it took 1.6 s per solve to 1e-8 (11 its) where BoomerAMG took 2.9 s (4.5 its)
-  // on this machine; BoomerAMG stays one option away (-poisson_pc_type hypre, docs/wind.md).
-  BIOTA_PETSC(PCSetType(pc, PCGAMG));
+  if (pc_type == PCMG) {
+    // Cell-centred geometric multigrid (PETSc's DMDA coarsening is vertex-centred, see
+    // cell_multigrid.hpp). -poisson_pc_mg_levels caps the level count; it is consumed here
+    // because PCMG would otherwise rebuild empty levels from it.
+    PetscInt max_levels = 30;
+    PetscBool set = PETSC_FALSE;
+    BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-pc_mg_levels", &max_levels, &set));
+    if (set) BIOTA_PETSC(PetscOptionsClearValue(nullptr, "-poisson_pc_mg_levels"));
+    CellLevel fine;
+    fine.cells = N;
+    for (int a = 0; a < 3; ++a)
+      for (int i = 0; i <= P[a]; ++i) fine.starts[a].push_back(grid::block_start(N[a], P[a], i));
+    levels_ = setup_cell_multigrid(pc, m.comm, fine, P, c, bcs, static_cast<int>(max_levels));
+  } else {
+    BIOTA_PETSC(PCSetType(pc, pc_type.c_str()));
+  }
   BIOTA_PETSC(KSPSetNormType(m.ksp, KSP_NORM_UNPRECONDITIONED));
   BIOTA_PETSC(KSPSetTolerances(m.ksp, 1e-10, 1e-50, PETSC_DEFAULT, 2000));
   BIOTA_PETSC(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE));
@@ -201,7 +231,9 @@ std::string PoissonSolver::description() const {
   KSPGetType(impl_->ksp, &kt);
   KSPGetPC(impl_->ksp, &pc);
   PCGetType(pc, &pt);
-  return std::string(kt) + " + " + pt;
+  std::string d = std::string(kt) + " + " + pt;
+  if (levels_ > 0) d += " (cell-centred, " + std::to_string(levels_) + " levels)";
+  return d;
 }
 
 SolveStats PoissonSolver::solve(const grid::Field<core::Real>& rhs, grid::Field<core::Real>& p) {

@@ -32,7 +32,8 @@ struct SolveStats {
 };
 
 /// \brief Solves L p = rhs. Options prefix `poisson_`; default `-poisson_ksp_type cg
-/// -poisson_pc_type gamg`, unpreconditioned residual norm, rtol 1e-10.
+/// -poisson_pc_type pfmg` (hypre PFMG on a MATHYPRESTRUCT matrix), unpreconditioned residual norm,
+/// rtol 1e-10; `gamg`, `hypre` (BoomerAMG) and `mg` (cell-centred PCMG) select the others.
 class PoissonSolver {
  public:
   /// \param solid optional cell mask (1 solid, 0 fluid) with at least one valid ghost layer.
@@ -55,13 +56,15 @@ class PoissonSolver {
   grid::Box petsc_owned_box() const;
   /// \brief Rank in PETSc's communicator of this process, and PETSc's process grid.
   int petsc_rank() const;
-  /// \brief KSP and PC type names actually used (e.g. "cg", "gamg").
+  /// \brief KSP and PC type names actually used (e.g. "cg + pfmg"; "cg + mg (cell-centred, 6
+  /// levels)").
   std::string description() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool singular_ = false;
+  int levels_ = 0;  // of the cell-centred multigrid, when it is used
 };
 
 }  // namespace biota::linalg

@@ -57,6 +57,16 @@ int ParticleComm::owner_of(const Vec3& p) const {
   return r;
 }
 
+void ParticleComm::wrap_particle(ParticleSet& set, std::size_t i, Real* const x[3]) const {
+  for (int d = 0; d < 3; ++d) {
+    const Real w = wrap(d, x[d][i]);
+    if (w == x[d][i]) continue;
+    const Real shift = w - x[d][i];
+    x[d][i] = w;
+    for (int a : set.extra_positions()) set.real(a, d)[i] += shift;
+  }
+}
+
 void ParticleComm::migrate(ParticleSet& set) {
   set.clear_ghosts();
   have_plan_ = false;
@@ -64,8 +74,7 @@ void ParticleComm::migrate(ParticleSet& set) {
   const int w = set.pack_width(false);
   Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
                 set.real(ParticleSet::kPos, 2)};
-  for (int d = 0; d < 3; ++d)
-    for (std::size_t i = 0; i < set.n_owned(); ++i) x[d][i] = wrap(d, x[d][i]);
+  for (std::size_t i = 0; i < set.n_owned(); ++i) wrap_particle(set, i, x);
   for (int round = 0;; ++round) {
     if (round > 64) throw std::runtime_error("ParticleComm::migrate did not converge");
     for (int d = 0; d < 3; ++d) {
@@ -120,7 +129,7 @@ void ParticleComm::redistribute(ParticleSet& set) {
   Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
                 set.real(ParticleSet::kPos, 2)};
   for (std::size_t i = 0; i < set.n_owned(); ++i) {
-    for (int d = 0; d < 3; ++d) x[d][i] = wrap(d, x[d][i]);
+    wrap_particle(set, i, x);
     const int r = owner_of(set.pos(i));
     if (r == decomp_.rank()) continue;
     set.pack(i, false, out[r]);
@@ -178,7 +187,7 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
           p.send.push_back(i);
           const std::size_t at = out.size();
           set.pack(i, true, out);
-          out[at + d] += p.shift;  // position is the first packed column
+          for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
         }
       }
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
@@ -205,7 +214,7 @@ void ParticleComm::update_ghosts(ParticleSet& set) {
       for (std::size_t i : p.send) {
         const std::size_t at = out.size();
         set.pack(i, true, out);
-        out[at + d] += p.shift;
+        for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
       }
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
                          kTagUpdate + 2 * side, comm);

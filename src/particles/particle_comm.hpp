@@ -8,7 +8,8 @@
 /// `origin`. A rank owns the particles whose position lies in its box; on a non-periodic axis
 /// particles outside the domain stay with the boundary rank. Exchanges run axis by axis (x, y, z)
 /// with face neighbours only (LAMMPS comm_brick), so diagonal moves and corner ghosts need no
-/// extra messages: ghosts received in pass x are forwarded in passes y and z.
+/// extra messages: ghosts received in pass x are forwarded in passes y and z. Periodic images and
+/// wraps shift every position-valued attribute (AttributeSpec::position), not only "x".
 #include <mpi.h>
 
 #include <array>
@@ -53,6 +54,9 @@ class ParticleComm {
   // Rank coordinate along axis d of the physical coordinate v.
   int axis_coord(int d, Real v) const;
   Real wrap(int d, Real v) const;
+  // Wrap particle i's position onto the periodic domain, moving its other position-valued
+  // attributes by the same shift.
+  void wrap_particle(ParticleSet& set, std::size_t i, Real* const x[3]) const;
 
   struct GhostPass {
     std::vector<std::size_t> send;  // local indices sent

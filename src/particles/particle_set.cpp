@@ -7,7 +7,7 @@
 namespace biota::particles {
 
 ParticleLayout::ParticleLayout() {
-  reals_.push_back({"x", 3, true, true});
+  reals_.push_back({"x", 3, true, true, true});
   u64s_.push_back({"id", 1, true, true});
 }
 
@@ -15,6 +15,12 @@ int ParticleLayout::add_real(const std::string& name, int ncomp, bool migrate, b
   if (find_real(name) >= 0) throw std::logic_error("particle attribute declared twice: " + name);
   reals_.push_back({name, ncomp, migrate, ghost});
   return static_cast<int>(reals_.size()) - 1;
+}
+
+int ParticleLayout::add_position(const std::string& name, bool migrate, bool ghost) {
+  const int a = add_real(name, 3, migrate, ghost);
+  reals_[a].position = true;
+  return a;
 }
 
 int ParticleLayout::add_u64(const std::string& name, int ncomp, bool migrate, bool ghost) {
@@ -43,6 +49,17 @@ ParticleSet::ParticleSet(ParticleLayout layout) : layout_(std::move(layout)) {
       rmig_.push_back(a.migrate);
       rghost_.push_back(a.ghost);
     }
+  }
+  int off_ghost = 0, off_migrate = 0;
+  for (std::size_t a = 0; a < layout_.reals().size(); ++a) {
+    const auto& spec = layout_.reals()[a];
+    if (spec.position) {
+      if (spec.ghost) pos_off_ghost_.push_back(off_ghost);
+      if (spec.migrate) pos_off_migrate_.push_back(off_migrate);
+      if (a != kPos) extra_pos_.push_back(static_cast<int>(a));
+    }
+    off_ghost += spec.ghost ? spec.ncomp : 0;
+    off_migrate += spec.migrate ? spec.ncomp : 0;
   }
   for (const auto& a : layout_.u64s()) {
     ufirst_.push_back(ucol_.size());

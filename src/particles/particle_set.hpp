@@ -32,6 +32,9 @@ struct AttributeSpec {
   int ncomp = 1;
   bool migrate = true;  ///< travels with the particle when it changes owner
   bool ghost = false;   ///< copied to ghosts on every ghost refresh
+  /// A point in space (3 components, m): shifted with the position for periodic ghost images
+  /// and periodic wraps, so e.g. a sampling point stays next to the image's position.
+  bool position = false;
 };
 
 /// \brief The attribute list of a particle kind. Position "x" (real, 3) and "id" (u64, 1) always
@@ -41,6 +44,9 @@ class ParticleLayout {
   ParticleLayout();
   /// \brief Declare a real attribute; returns its handle.
   int add_real(const std::string& name, int ncomp, bool migrate, bool ghost);
+  /// \brief Declare a position-valued real attribute (3 components, m; see
+  /// AttributeSpec::position); returns its handle.
+  int add_position(const std::string& name, bool migrate, bool ghost);
   /// \brief Declare a 64-bit integer attribute (ids of partners, plant ids, flags); returns handle.
   int add_u64(const std::string& name, int ncomp, bool migrate, bool ghost);
   const std::vector<AttributeSpec>& reals() const { return reals_; }
@@ -114,6 +120,14 @@ class ParticleSet {
   int pack_width(bool ghost_only) const;
   /// \brief Append particle i's migrating (ghost_only=false) or ghost columns to `buf`.
   void pack(std::size_t i, bool ghost_only, std::vector<double>& buf) const;
+  /// \brief Offsets, within a packed particle, of the x component of every position-valued
+  /// attribute packed (the position itself first, at 0). A periodic shift along axis d adds L to
+  /// element offset + d of each.
+  const std::vector<int>& position_offsets(bool ghost_only) const {
+    return ghost_only ? pos_off_ghost_ : pos_off_migrate_;
+  }
+  /// \brief Handles of the position-valued real attributes other than the position.
+  const std::vector<int>& extra_positions() const { return extra_pos_; }
   /// \brief Write one packed particle into slot i (which must exist).
   void unpack(std::size_t i, bool ghost_only, const double* in);
   /// \brief Resize to n_owned owned and n_total - n_owned ghosts (new slots zeroed).
@@ -127,6 +141,7 @@ class ParticleSet {
   std::vector<std::vector<Real>> rcol_;
   std::vector<std::vector<std::uint64_t>> ucol_;
   std::vector<char> rmig_, rghost_, umig_, ughost_;  // per column flags
+  std::vector<int> pos_off_ghost_, pos_off_migrate_, extra_pos_;
   std::size_t n_owned_ = 0, n_total_ = 0;
 };
 

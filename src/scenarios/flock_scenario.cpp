@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "core/rng.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
@@ -93,7 +94,9 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("flock.noise.hurst", 0.2, 0.01, 0.99, "-", "Hurst exponent of every fBm");
   s.add_string("flock.noise.signal", "path", {"path", "increments"},
                "heading noise from the fBm path (1/f^(2H+1)) or its increments (1/f^(2H-1))");
-  s.add_int("flock.noise.levels", 8, 1, 20, "heading noise comes in blocks of 2^levels frames");
+  s.add_int("flock.noise.levels", 8, 1, 20,
+            "heading noise: flock.noise.heading is its RMS change over 2^levels frames (blocks of "
+            "one long fBm path)");
   s.add_real("flock.noise.heading", 0.3, 0.0, std::nullopt, "rad",
              "RMS turn of the acceleration direction");
   s.add_real("flock.noise.cruising_distance", 0.15, 0.0, 0.9, "-",
@@ -182,10 +185,36 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
   const auto& ps = c.get_real_list("flock.predator.start");
   pred_start_ = {ps[0], ps[1], ps[2]};
+  // Points of the deck must lie in the box (a point outside selects no rank's cell).
+  for (const char* key : {"flock.predator.start", "flock.takeoff.origin"}) {
+    const auto& q = c.get_real_list(key);
+    for (int d = 0; d < 3; ++d)
+      if (!(q[d] >= 0 && q[d] <= size[d]))
+        c.fail(key, fmt::format("lies outside the box [0, {}] x [0, {}] x [0, {}] m "
+                                "(flock.domain.size)",
+                                size[0], size[1], size[2]));
+  }
 
   const int L = static_cast<int>(c.get_int("flock.sandpile.size"));
   n_prey_ = c.get_int("flock.prey.count");
   if (n_prey_ == 0) n_prey_ = 1LL * L * L * L;
+  {
+    // Replicated on every rank: the take-off points (orbit and positions, 48 B per prey), the
+    // sandpile (heights, flee timers, toppling lists: ~40 B per site) and two 2D fBm fields over
+    // the take-off grid; per rank: its share of the boids (~200 B each with ghosts and bins).
+    int ranks = 1;
+    MPI_Comm_size(ctx.comm, &ranks);
+    const double prey = double(n_prey_), sites = double(L) * L * L;
+    const double grid_side = std::ceil(std::sqrt(prey)) * 2 + 1;
+    core::check_memory(ctx.comm, c,
+                       {{"take-off points", 48 * prey},
+                        {"sandpile", 40 * sites},
+                        {"fBm fields", 2 * 8 * grid_side * grid_side},
+                        {"boids", 200 * (prey + double(n_pred_)) / ranks}},
+                       fmt::format("flock.prey.count = {} prey and flock.sandpile.size = {} ({}^3 "
+                                   "sites)",
+                                   n_prey_, L, L));
+  }
   sandpile_ = std::make_unique<mf::Sandpile>(L, L, L, seed_);
   {
     int rank = 0, size = 1;
@@ -457,8 +486,8 @@ double FlockScenario::heading_angle(core::GlobalId id) {
   auto& e = noise_cache_[id];
   if (e.second.empty() || e.first != block) {
     e.first = block;
-    e.second = mf::heading_noise_block(noise_levels_, noise_hurst_, noise_signal_, seed_, id,
-                                       block % (1u << 20));
+    e.second =
+        mf::heading_noise_block(noise_levels_, noise_hurst_, noise_signal_, seed_, id, block);
   }
   return noise_heading_ * e.second[static_cast<std::uint64_t>(step_) % n];
 }

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "coupling/particle_transfer.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
 #include "io/particle_output.hpp"
@@ -45,6 +46,10 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
       grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
+                     "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
+                         std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
+                         " cells (" + params.lattice + ")");
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   lbm_->enable_force_field();
   const double dx = lbm_->units().dx();
@@ -65,6 +70,13 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   n_plants_ = static_cast<int>(cfg.get_int("seaweed.plants"));
   const auto& lo = cfg.get_real_list("seaweed.placement.lo");
   const auto& hi = cfg.get_real_list("seaweed.placement.hi");
+  for (int d = 0; d < 3; ++d)
+    if (!(lo[d] >= 0 && lo[d] < hi[d] && hi[d] <= L[d]))
+      cfg.fail("seaweed.placement.lo",
+               fmt::format("and seaweed.placement.hi = [{}, {}, {}] do not give a box inside the "
+                           "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
+                           "with lo < hi on every axis",
+                           hi[0], hi[1], hi[2], L[0], L[1], L[2]));
   auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
                                cfg.get_real("seaweed.placement.min_spacing"));
   auto mpar = mp::MechanicsParams::from_config(cfg);
@@ -93,10 +105,7 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
           "radius from a wall); move the placement box or use a larger tank\n",
           outside);
   }
-  if (bodies_->ghost_cutoff() < dx)
-    throw core::InputError(
-        "seaweed: particle ghost cutoff below one lattice cell; spreading "
-        "needs every sphere within one cell of a rank's box as a ghost");
+  check_particle_halo(mpar, dx);
   if (decomp_->rank() == 0) {
     fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),
                decomp_->dims().x, decomp_->dims().y, decomp_->dims().z);
@@ -107,6 +116,36 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
   bodies_->begin_step();
   last_ = bodies_->clusters();
+}
+
+void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {
+  const auto& cfg = ctx_.config;
+  // Interpolation: an owned sphere drifts up to skin/2 out of its rank's box before the list
+  // rebuild migrates it; its 2x2x2 stencil must stay within the velocity's ghost layers.
+  const int g = lbm_->velocity().ghosts();
+  if (mpar.skin > (2 * g - 1) * dx)
+    cfg.fail("seaweed.skin",
+             fmt::format("m exceeds {} x lbm.dx = {} m (allowed: 0 to {} m): a sphere may drift "
+                         "half the skin out of its rank's box before migrating, past the "
+                         "{}-cell ghost layer of the velocity it samples",
+                         2 * g - 1, (2 * g - 1) * dx, (2 * g - 1) * dx, g));
+  // Spreading: every sphere whose stencil reaches an owned cell must be a ghost, also after
+  // moving skin/2 since the ghosts were built.
+  const double need = coupling_->reach() + 0.5 * mpar.skin;
+  if (bodies_->ghost_cutoff() < std::max(need, dx))
+    cfg.fail("seaweed.skin",
+             fmt::format("m: particle ghost cutoff {} m is below max(lbm.dx, lbm.dx/2 + "
+                         "seaweed.skin/2) = {} m needed for spreading (raise seaweed.skin or "
+                         "seaweed.spacing)",
+                         bodies_->ghost_cutoff(), std::max(need, dx)));
+  // Joints: the cutoff covers bonds up to 2 x seaweed.spacing; the grown plants must start
+  // within that (they do by construction: stems are cut into pieces of at most the spacing).
+  const double bond = bodies_->longest_bond();
+  if (bond > 2 * mpar.spacing)
+    throw core::InputError(fmt::format(
+        "seaweed: longest joint at set-up {} m exceeds 2 x seaweed.spacing = {} m covered by "
+        "the particle ghost cutoff",
+        bond, 2 * mpar.spacing));
 }
 
 void SeaweedScenario::open_csv() {
@@ -144,13 +183,10 @@ void SeaweedScenario::step() {
   }
   {
     auto scope = ctx_.timers.scope("coupling");
-    const double to_si = units.velocity_to_si(1.0);
-    for (std::size_t i = 0; i < set.n_owned(); ++i) {
-      const Vec3 x = set.pos(i);
-      set.set_vec3(bodies_->a_xs, i, x);
-      set.set_vec3(bodies_->a_uf, i,
-                   coupling_->interpolate(lbm_->velocity(), coupling_->stencil(x)) * to_si);
-    }
+    // Sample at the step's start position, kept in x_sample for the reaction's spreading.
+    for (std::size_t i = 0; i < set.n_owned(); ++i) set.set_vec3(bodies_->a_xs, i, set.pos(i));
+    coupling::interpolate_to_particles(*coupling_, lbm_->velocity(), set, bodies_->a_xs,
+                                       bodies_->a_uf, units.velocity_to_si(1.0));
   }
   {
     auto scope = ctx_.timers.scope("particles");
@@ -165,17 +201,8 @@ void SeaweedScenario::step() {
       // interpolation weights (at the sampling position) as a lattice force density. Every rank
       // spreads its owned and ghost spheres in global-id order into its owned cells only, so
       // each cell sums the same terms in the same order on any rank count (no reverse halo sum).
-      const double to_lat = units.force_to_lattice(1.0) / dt_;
-      std::vector<std::size_t> order(set.n_total());
-      std::iota(order.begin(), order.end(), std::size_t{0});
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        if (set.id(a) != set.id(b)) return set.id(a) < set.id(b);
-        const Vec3 xa = set.vec3(bodies_->a_xs, a), xb = set.vec3(bodies_->a_xs, b);
-        return std::tie(xa.x, xa.y, xa.z) < std::tie(xb.x, xb.y, xb.z);  // periodic images
-      });
-      for (std::size_t i : order)
-        coupling_->spread_owned(f, coupling_->stencil(set.vec3(bodies_->a_xs, i)),
-                                set.vec3(bodies_->a_imp, i) * (-to_lat));
+      coupling::spread_from_particles(*coupling_, f, set, bodies_->a_xs, bodies_->a_imp,
+                                      -units.force_to_lattice(1.0) / dt_);
     }
   }
   // The LBM velocity used for sampling is always the one update_macroscopic() computes from the
@@ -330,8 +357,11 @@ void SeaweedScenario::check_health() {
 }
 
 std::string SeaweedScenario::progress() {
-  return fmt::format("clusters {} largest {:.2f} contacts {} broken {}", last_.clusters,
-                     last_.largest_share, last_.contacts, last_.broken_joints);
+  std::string s = fmt::format("clusters {} largest {:.2f} contacts {} broken {}", last_.clusters,
+                              last_.largest_share, last_.contacts, last_.broken_joints);
+  // Joints whose partner was beyond the ghost cutoff at the last list build (normally none).
+  if (last_.skipped_joints > 0) s += fmt::format(" SKIPPED-JOINTS {}", last_.skipped_joints);
+  return s;
 }
 
 std::vector<std::string> SeaweedScenario::timer_sections() const {

@@ -44,6 +44,7 @@ class SeaweedScenario : public Scenario {
   void record_metrics();
   void open_csv();
   void check_spheres_finite();
+  void check_particle_halo(const models::plants::MechanicsParams& mpar, double dx);
   long long last_broken_total();
 
   RunContext ctx_;

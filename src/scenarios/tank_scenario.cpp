@@ -17,6 +17,11 @@ TankScenario::TankScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
       grid::GridKeys{ctx.config.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  core::check_memory(ctx.comm, ctx.config,
+                     solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
+                     "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
+                         std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
+                         " cells (" + params.lattice + ")");
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   if (decomp_->rank() == 0)
     fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),

@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
+#include "grid/halo_exchange.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
 #include "linalg/petsc_environment.hpp"
@@ -60,7 +62,8 @@ void WindScenario::declare_config(core::ConfigSchema& s) {
   s.add_string(
       "wind.poisson_options", "", {},
       "PETSc options of the pressure solve, all under -poisson_ (default: -poisson_ksp_type "
-      "cg -poisson_pc_type gamg -poisson_ksp_rtol 1e-10); the command line after -- wins");
+      "cg -poisson_pc_type pfmg -poisson_ksp_rtol 1e-10; also gamg, hypre (BoomerAMG), mg "
+      "(cell-centred geometric)); the command line after -- wins");
 }
 
 solvers::mac::MacParams wind_params_from_config(const core::Config& cfg) {
@@ -114,6 +117,20 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, p.cells, periodic, core::Index3{0, 0, 0},
       grid::GridKeys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}});
+  grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts,
+                         {"wind.nx", "wind.ny", "wind.nz"});
+  {
+    // MAC fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with 2 ghost layers, and
+    // the pressure solve (7-point matrix, multigrid hierarchy, Krylov vectors: ~300 B per cell).
+    const core::Index3 n = decomp_->local_cells();
+    const double cells = double(n.x + 4) * double(n.y + 4) * double(n.z + 4);
+    const double owned = double(n.x) * double(n.y) * double(n.z);
+    core::check_memory(
+        ctx.comm, ctx.config,
+        {{"fields", 16 * 8 * cells}, {"pressure solve", 300 * owned}, {"output", 8 * 8 * owned}},
+        "wind.nx x wind.ny x wind.nz = " + std::to_string(p.cells.x) + " x " +
+            std::to_string(p.cells.y) + " x " + std::to_string(p.cells.z) + " cells");
+  }
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
   mac_->project_initial();
   const auto st = mac_->next_dt();

@@ -97,7 +97,7 @@ particles::ParticleLayout seaweed_layout() {
   l.add_real("anchor_child", 3, true, true);
   l.add_real("anchor_parent", 3, true, true);
   l.add_real("q_rest", 4, true, true);
-  l.add_real("x_sample", 3, true, true);
+  l.add_position("x_sample", true, true);  // shifted with periodic images (spreading point)
   l.add_real("joint_force", 1, true, false);
   l.add_real("joint_torque", 1, true, false);
   l.add_real("radius", 1, true, true);
@@ -142,6 +142,7 @@ void SeaweedBodies::build(const Population& pop, int n_plants) {
     set_.u64(u_plant)[i] = static_cast<std::uint64_t>(plant);
     set_.u64(u_parent)[i] = parent;
     if (parent != kNoId) {
+      longest_bond_local_ = std::max(longest_bond_local_, core::norm(x - parent_x));
       // Joint anchor at the midpoint; all spheres start with the identity orientation.
       set_.set_vec3(a_anchor_c, i, (parent_x - x) * 0.5);
       set_.set_vec3(a_anchor_p, i, (x - parent_x) * 0.5);
@@ -178,6 +179,12 @@ Real SeaweedBodies::ghost_cutoff() const {
   const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
   const Real bond_range = 2 * p_.spacing + p_.skin;
   return std::max(contact_range, bond_range);
+}
+
+Real SeaweedBodies::longest_bond() const {
+  Real m = longest_bond_local_;
+  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, comm_.decomposition().comm());
+  return m;
 }
 
 void SeaweedBodies::begin_step() {
@@ -230,13 +237,20 @@ void SeaweedBodies::rebuild_lists() {
     pairs_.emplace_back(set_.id(i) < set_.id(j) ? i : j, set_.id(i) < set_.id(j) ? j : i);
   });
   joints_.clear();
+  long long skipped = 0;
   for (std::size_t c = 0; c < nt; ++c) {
     const GlobalId pid = set_.u64(u_parent)[c];
     if (pid == kNoId) continue;
     const std::size_t p = find_near(pid, set_.pos(c));
-    if (p == SIZE_MAX) continue;  // partner out of range: only possible for a ghost child
+    // Partner out of range: expected for a ghost child (its owner evaluates the joint); for an
+    // owned child the joint is lost for this list's lifetime -- counted, reported in metrics.
+    if (p == SIZE_MAX) {
+      skipped += c < no ? 1 : 0;
+      continue;
+    }
     if (c < no || p < no) joints_.emplace_back(c, p);
   }
+  skipped_joints_ = skipped;
   // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
   struct Entry {
     GlobalId partner;
@@ -448,9 +462,9 @@ ClusterMetrics SeaweedBodies::clusters() {
   cm.largest_share = n_plants_ > 0 ? static_cast<double>(cm.largest) / n_plants_ : 0;
   long long joints = 0;
   for (std::size_t i = 0; i < set_.n_owned(); ++i) joints += set_.u64(u_parent)[i] != kNoId;
-  long long v[3] = {contacts, broken_local_, joints};
-  MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_LONG_LONG, MPI_SUM, comm);
-  cm.contacts = v[0], cm.broken_joints = v[1], cm.joints = v[2];
+  long long v[4] = {contacts, broken_local_, joints, skipped_joints_};
+  MPI_Allreduce(MPI_IN_PLACE, v, 4, MPI_LONG_LONG, MPI_SUM, comm);
+  cm.contacts = v[0], cm.broken_joints = v[1], cm.joints = v[2], cm.skipped_joints = v[3];
   return cm;
 }
 

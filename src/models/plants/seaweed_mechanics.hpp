@@ -53,6 +53,9 @@ struct ClusterMetrics {
   long long contacts = 0;       ///< inter-plant sphere contacts
   long long broken_joints = 0;  ///< cumulative
   long long joints = 0;         ///< intact joints
+  /// Joints of owned spheres whose partner was beyond the ghost cutoff at the last list build
+  /// (not evaluated until the next build; should be 0, see ghost_cutoff()).
+  long long skipped_joints = 0;
 };
 
 /// \brief The seaweed population as rigid spheres.
@@ -71,8 +74,11 @@ class SeaweedBodies {
   void begin_step();
   /// \brief Number of neighbour-list rebuilds so far (tests, timing).
   long long rebuilds() const { return rebuilds_; }
-  /// \brief Ghost cutoff used for the particle halo [m].
+  /// \brief Ghost cutoff used for the particle halo [m]: covers contacts and joints stretched
+  /// up to twice seaweed.spacing, plus the skin.
   Real ghost_cutoff() const;
+  /// \brief Longest joint (child-parent distance) at build() [m]. Collective.
+  Real longest_bond() const;
   /// \brief Cumulative broken joints counted on this rank (restored from checkpoints).
   long long& broken_local() { return broken_local_; }
   /// \brief Set the fluid velocity of every owned sphere from `u` (call after begin_step).
@@ -115,6 +121,8 @@ class SeaweedBodies {
   std::unordered_multimap<GlobalId, std::size_t> slots_;  // global id -> local slots
   int n_plants_ = 0;
   long long broken_local_ = 0;
+  long long skipped_joints_ = 0;  // at the last list build, owned children only
+  Real longest_bond_local_ = 0;
 };
 
 /// \brief Build the layout of a seaweed sphere set (shared with output/checkpoint code).

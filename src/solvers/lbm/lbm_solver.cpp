@@ -3,13 +3,14 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "solvers/lbm/aa_sweep.hpp"
 #include "solvers/lbm/lattice.hpp"
-#include "solvers/lbm/stream_collide.hpp"
 
 namespace biota::solvers::lbm {
 namespace {
@@ -24,6 +25,47 @@ int face_index(const core::Config& cfg, const std::string& key) {
   cfg.fail(key, "is not a face");
 }
 
+// True if a cell centre ((i + 1/2) dx, (j + 1/2) dx) of an n0 x n1 face lies at a distance in
+// [r_min, r_max] from (c0, c1): one interval test per row, so O(n1) even on a huge face.
+bool ring_selects_a_cell(int n0, int n1, double dx, double c0, double c1, double r_min,
+                         double r_max) {
+  for (int j = 0; j < n1; ++j) {
+    const double dy2 = ((j + 0.5) * dx - c1) * ((j + 0.5) * dx - c1);
+    if (dy2 > r_max * r_max) continue;
+    const double hi = std::sqrt(r_max * r_max - dy2);
+    const double lo = r_min * r_min > dy2 ? std::sqrt(r_min * r_min - dy2) : 0.0;
+    for (const double sign : {1.0, -1.0}) {  // a - c0 in [lo, hi] or in [-hi, -lo]
+      const double a_lo = sign > 0 ? c0 + lo : c0 - hi, a_hi = sign > 0 ? c0 + hi : c0 - lo;
+      const double first = std::max(0.0, std::ceil(a_lo / dx - 0.5));
+      if (first < n0 && (first + 0.5) * dx <= a_hi) return true;
+    }
+  }
+  return false;
+}
+
+// The inlet disc and the outlet annulus must lie on their face and select at least one cell: an
+// inlet centred outside the tank was accepted and the run went on without a jet.
+void check_face_patch(const core::Config& cfg, const LbmParams& p, int face,
+                      const std::string& prefix, const double center[2], double r_min, double r_max,
+                      const std::string& radius_keys) {
+  if (face < 0) return;
+  const int axis = face / 2;
+  const int t0 = axis == 0 ? 1 : 0, t1 = axis == 2 ? 1 : 2;
+  const char* names = "xyz";
+  const double l0 = p.cells[t0] * p.dx, l1 = p.cells[t1] * p.dx;
+  const std::string face_text = fmt::format(
+      "the {} face spans {} in [0, {}] m and {} in [0, {}] m (lbm.n{}, lbm.n{} x lbm.dx)",
+      kFaceNames[face], names[t0], l0, names[t1], l1, names[t0], names[t1]);
+  if (!(center[0] >= 0 && center[0] <= l0 && center[1] >= 0 && center[1] <= l1))
+    cfg.fail(prefix + ".center", "lies outside the face: " + face_text);
+  if (r_min > r_max)
+    cfg.fail(prefix + ".r_min", fmt::format("exceeds {}.r_max = {}", prefix, r_max));
+  if (!ring_selects_a_cell(p.cells[t0], p.cells[t1], p.dx, center[0], center[1], r_min, r_max))
+    cfg.fail(prefix + ".center",
+             fmt::format("with {} selects no cell centre ({} m apart) of the face; {}", radius_keys,
+                         p.dx, face_text));
+}
+
 template <class L>
 void copy_lattice(std::vector<std::array<int, 3>>& c, std::vector<double>& w,
                   std::vector<int>& opp) {
@@ -32,28 +74,73 @@ void copy_lattice(std::vector<std::array<int, 3>>& c, std::vector<double>& w,
   opp.assign(L::opp.begin(), L::opp.end());
 }
 
-using SweepFn = void (*)(const SweepArgs&);
+using SweepFn = void (*)(const AaSweepArgs&);
 
-template <class L, bool T, ForceMode F>
-SweepFn pick3(bool macro, bool solids) {
+template <class L, bool T, ForceMode F, bool P>
+SweepFn pick4(bool macro, bool solids) {
   if (macro)
-    return solids ? stream_collide<L, T, F, true, true> : stream_collide<L, T, F, true, false>;
-  return solids ? stream_collide<L, T, F, false, true> : stream_collide<L, T, F, false, false>;
+    return solids ? aa_stream_collide<L, T, F, true, true, P>
+                  : aa_stream_collide<L, T, F, true, false, P>;
+  return solids ? aa_stream_collide<L, T, F, false, true, P>
+                : aa_stream_collide<L, T, F, false, false, P>;
+}
+template <class L, bool T, ForceMode F>
+SweepFn pick3(bool from_post, bool macro, bool solids) {
+  return from_post ? pick4<L, T, F, true>(macro, solids) : pick4<L, T, F, false>(macro, solids);
 }
 template <class L, bool T>
-SweepFn pick2(ForceMode f, bool macro, bool solids) {
+SweepFn pick2(ForceMode f, bool from_post, bool macro, bool solids) {
   switch (f) {
     case ForceMode::kNone:
-      return pick3<L, T, ForceMode::kNone>(macro, solids);
+      return pick3<L, T, ForceMode::kNone>(from_post, macro, solids);
     case ForceMode::kUniform:
-      return pick3<L, T, ForceMode::kUniform>(macro, solids);
+      return pick3<L, T, ForceMode::kUniform>(from_post, macro, solids);
     default:
-      return pick3<L, T, ForceMode::kField>(macro, solids);
+      return pick3<L, T, ForceMode::kField>(from_post, macro, solids);
   }
 }
 template <class L>
-SweepFn pick1(bool trt, ForceMode f, bool macro, bool solids) {
-  return trt ? pick2<L, true>(f, macro, solids) : pick2<L, false>(f, macro, solids);
+SweepFn pick1(bool trt, ForceMode f, bool from_post, bool macro, bool solids) {
+  return trt ? pick2<L, true>(f, from_post, macro, solids)
+             : pick2<L, false>(f, from_post, macro, solids);
+}
+
+// Density and physical velocity of the owned cells from the post-collision populations post[q][c]
+// (solid cells at rest, as a two-grid sweep leaves them). Lattice constants known at compile time
+// so that the row loop vectorises; same operations in the same order as the scalar loop it
+// replaced.
+template <class L>
+void macroscopic_fields(const grid::Field<Real>& layout, const double* const* post,
+                        const std::uint8_t* solid, const double* const* force, const double* gl,
+                        double* const* out) {
+  const Index3 n = layout.cells();
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j) {
+      const std::ptrdiff_t row = layout.index(0, j, k);
+      for (std::ptrdiff_t c = row; c < row + n.x; ++c) {
+        double m = 0, jx = 0, jy = 0, jz = 0;
+        const bool s = solid[c];
+#pragma GCC unroll 32
+        for (int q = 0; q < L::Q; ++q) {
+          const double v = s ? L::w[q] : post[q][c];
+          m += v;
+          jx += L::c[q][0] * v;
+          jy += L::c[q][1] * v;
+          jz += L::c[q][2] * v;
+        }
+        // Post-collision momentum carries the full force; the physical velocity is half-way.
+        double fx = gl[0], fy = gl[1], fz = gl[2];
+        if (force[0]) {
+          fx += force[0][c];
+          fy += force[1][c];
+          fz += force[2][c];
+        }
+        out[0][c] = m;
+        out[1][c] = (jx - 0.5 * fx) / m;
+        out[2][c] = (jy - 0.5 * fy) / m;
+        out[3][c] = (jz - 0.5 * fz) / m;
+      }
+    }
 }
 
 }  // namespace
@@ -117,6 +204,20 @@ void LbmSolver::declare_config(core::ConfigSchema& s) {
   s.add_real("lbm.outlet.r_max", 1e9, 0.0, std::nullopt, "m", "annulus outer radius");
 }
 
+std::vector<core::MemoryItem> LbmSolver::memory_estimate(const grid::Decomposition& decomp,
+                                                         const LbmParams& params) {
+  const Index3 n = decomp.local_cells();
+  const double cells = double(n.x + 2) * double(n.y + 2) * double(n.z + 2);  // one ghost layer
+  const double surface = 2.0 * (double(n.x) * n.y + double(n.y) * n.z + double(n.x) * n.z);
+  const double nq = params.lattice == "D3Q19" ? 19 : 15;
+  // One population buffer (in-place AA streaming); force 3, rho 1, u 3 reals; a solid byte; about
+  // nq/3 links of 40 bytes per wall cell; an output step holds about 8 reals per owned cell.
+  return {{"populations", nq * 8 * cells},
+          {"fields", 7 * 8 * cells + cells},
+          {"boundary links", surface * nq / 3 * 40},
+          {"output", 8 * 8 * double(n.x) * n.y * n.z}};
+}
+
 LbmParams LbmParams::from_config(const core::Config& cfg) {
   LbmParams p;
   p.lattice = cfg.get_string("lbm.lattice");
@@ -163,6 +264,11 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   p.outlet.r_max = cfg.get_real("lbm.outlet.r_max");
   if (p.outlet.face >= 0 && p.faces[p.outlet.face] == FaceType::kPeriodic)
     cfg.fail("lbm.outlet.face", "lies on a periodic face");
+  check_face_patch(cfg, p, p.inlet.face, "lbm.inlet", p.inlet.center, 0.0, p.inlet.radius,
+                   fmt::format("lbm.inlet.radius = {}", p.inlet.radius));
+  check_face_patch(
+      cfg, p, p.outlet.face, "lbm.outlet", p.outlet.center, p.outlet.r_min, p.outlet.r_max,
+      fmt::format("lbm.outlet.r_min = {}, lbm.outlet.r_max = {}", p.outlet.r_min, p.outlet.r_max));
   p.max_mach = cfg.get_real("lbm.max_mach");
   p.reference_velocity = cfg.has("lbm.reference_velocity")
                              ? cfg.get_real("lbm.reference_velocity")
@@ -194,20 +300,24 @@ LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
   nq_ = static_cast<int>(c_.size());
   const Index3 n = decomp.local_cells();
   f_ = grid::Field<Real>(n, nq_, 1);
-  f_next_ = grid::Field<Real>(n, nq_, 1);
+  for (int q = 0; q < nq_; ++q)
+    offset_.push_back(c_[q][0] + c_[q][1] * f_.stride_y() + c_[q][2] * f_.stride_z());
   force_ = grid::Field<Real>(n, 3, 1);
   rho_ = grid::Field<Real>(n, 1, 1, 1.0);
   u_ = grid::Field<Real>(n, 3, 1);
   solid_.assign(f_.plane_size(), 0);
-  // Only the populations that stream into the neighbour cross a face: the low ghost layer of
-  // axis a needs those with c_a = +1, the high one those with c_a = -1.
-  grid::FaceComponents faces;
+  // Only the populations that stream into the neighbour cross a face. Before a neighbour step the
+  // low ghost layer of axis a needs those with c_a = +1, the high one those with c_a = -1; in the
+  // post state population q sits in slot opp(q). After it, the populations with c_a = -1 that
+  // were streamed into my low ghosts (c_a = +1: high ghosts) go to the neighbour, slot q.
+  grid::FaceComponents pull, push;
   for (int a = 0; a < 3; ++a)
     for (int q = 0; q < nq_; ++q) {
-      if (c_[q][a] == 1) faces[a][0].push_back(q);
-      if (c_[q][a] == -1) faces[a][1].push_back(q);
+      if (c_[q][a] == 1) pull[a][0].push_back(opp_[q]), push[a][1].push_back(q);
+      if (c_[q][a] == -1) pull[a][1].push_back(opp_[q]), push[a][0].push_back(q);
     }
-  halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, faces);
+  halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, pull);
+  fold_ = std::make_unique<grid::GhostFold>(decomp, f_, push);
   halo_u_ = std::make_unique<grid::HaloExchange>(decomp, u_);
   initialize([](const Index3&, double& rho, Vec3& u) {
     rho = 1.0;
@@ -229,37 +339,47 @@ void LbmSolver::initialize(const std::function<void(const Index3&, double&, Vec3
         const double uu = dot(u, u);
         for (int q = 0; q < nq_; ++q) {
           const double cu = c_[q][0] * u.x + c_[q][1] * u.y + c_[q][2] * u.z;
-          f_(i, j, k, q) = w_[q] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
+          f_(i, j, k, opp_[q]) = w_[q] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
         }
       }
+  streamed_ = false;  // the post state: population q of x in slot opp(q) of x
   update_macroscopic();
 }
 
-void LbmSolver::update_macroscopic() {
+void LbmSolver::post_view(const double* post[32]) const {
+  for (int q = 0; q < nq_; ++q)
+    post[q] = streamed_ ? f_.component(q) + offset_[q] : f_.component(opp_[q]);
+}
+
+grid::Field<Real> LbmSolver::natural_populations() const {
   const Index3 n = decomp_.local_cells();
-  const Vec3 g{params_.body_force.x, params_.body_force.y, params_.body_force.z};
-  const Vec3 gl{units_.force_density_to_lattice(g.x), units_.force_density_to_lattice(g.y),
-                units_.force_density_to_lattice(g.z)};
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) {
-        double m = 0, jx = 0, jy = 0, jz = 0;
-        for (int q = 0; q < nq_; ++q) {
-          const double v = f_(i, j, k, q);
-          m += v;
-          jx += c_[q][0] * v;
-          jy += c_[q][1] * v;
-          jz += c_[q][2] * v;
+  grid::Field<Real> out(n, nq_, 1);
+  const double* post[32];
+  post_view(post);
+  for (int q = 0; q < nq_; ++q)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) {
+          const std::ptrdiff_t c = f_.index(i, j, k);
+          out(i, j, k, q) = solid_[c] ? w_[q] : post[q][c];
         }
-        // Post-collision momentum carries the full force; the physical velocity is half-way.
-        Vec3 fl = gl;
-        if (use_force_field_)
-          fl += Vec3{force_(i, j, k, 0), force_(i, j, k, 1), force_(i, j, k, 2)};
-        rho_(i, j, k) = m;
-        u_(i, j, k, 0) = (jx - 0.5 * fl.x) / m;
-        u_(i, j, k, 1) = (jy - 0.5 * fl.y) / m;
-        u_(i, j, k, 2) = (jz - 0.5 * fl.z) / m;
-      }
+  return out;
+}
+
+void LbmSolver::update_macroscopic() {
+  const double* post[32];
+  post_view(post);
+  const Vec3& g = params_.body_force;
+  const double gl[3] = {units_.force_density_to_lattice(g.x), units_.force_density_to_lattice(g.y),
+                        units_.force_density_to_lattice(g.z)};
+  const double* force[3] = {nullptr, nullptr, nullptr};
+  if (use_force_field_)
+    for (int a = 0; a < 3; ++a) force[a] = force_.component(a);
+  double* out[4] = {rho_.component(0), u_.component(0), u_.component(1), u_.component(2)};
+  if (params_.lattice == "D3Q15")
+    macroscopic_fields<D3Q15>(f_, post, solid_.data(), force, gl, out);
+  else
+    macroscopic_fields<D3Q19>(f_, post, solid_.data(), force, gl, out);
   halo_u_->exchange();
 }
 
@@ -370,6 +490,44 @@ void LbmSolver::build_links() {
           links_.push_back(l);
         }
       }
+  build_plans();
+}
+
+void LbmSolver::build_plans() {
+  // The value link (s -> x, q) delivers is what x reads as its streamed population q: slot opp(q)
+  // of s before a neighbour step, slot q of x before a local one. The post-collision population p
+  // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
+  const auto plane = static_cast<std::int64_t>(f_.plane_size());
+  for (int streamed = 0; streamed < 2; ++streamed) {
+    auto post = [&](int p, std::int64_t c) {
+      return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
+    };
+    BoundaryPlan& plan = plans_[streamed];
+    plan = {};
+    for (const Link& l : links_) {
+      const int q = l.q;
+      const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
+      switch (l.type) {
+        case -1:
+          plan.inlet.push_back({dst, post(opp_[q], l.x)});
+          plan.inlet_coef.push_back(l.coef);
+          break;
+        case int(FaceType::kFreeSlip):
+          plan.copies.push_back({dst, post(l.q2, l.x2)});
+          break;
+        case int(FaceType::kPressure):
+          plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
+          break;
+        case int(FaceType::kZeroGradient):
+          plan.copies.push_back({dst, post(q, l.x)});
+          break;
+        default:
+          plan.copies.push_back({dst, post(opp_[q], l.x)});
+      }
+    }
+    // Walk the targets in memory order (the links come cell by cell, 19 planes apart).
+    std::sort(plan.copies.begin(), plan.copies.end());
+  }
 }
 
 void LbmSolver::apply_boundaries() {
@@ -377,50 +535,46 @@ void LbmSolver::apply_boundaries() {
   const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
                                                     params_.inlet.time_factor(t)
                                               : 0.0;
-  double* f[32];
-  for (int q = 0; q < nq_; ++q) f[q] = f_.component(q);
-  for (const Link& l : links_) {
-    const int q = l.q;
-    switch (l.type) {
-      case -1:  // moving-wall bounce-back with the inlet velocity (Ladd 1994)
-        f[q][l.s] = f[opp_[q]][l.x] + l.coef * u_in;
-        break;
-      case int(FaceType::kFreeSlip):
-        f[q][l.s] = f[l.q2][l.x2];
-        break;
-      case int(FaceType::kPressure): {
-        // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of
-        // the equilibrium enters, so the cell's velocity does not feed back linearly. (Plain
-        // equilibrium with the cell's velocity grew round-off at outlet/wall corners into a blow-up
-        // after ~4e4 steps.)
-        double m = 0, jx = 0, jy = 0, jz = 0;
-        for (int p = 0; p < nq_; ++p) {
-          const double v = f[p][l.x];
-          m += v;
-          jx += c_[p][0] * v;
-          jy += c_[p][1] * v;
-          jz += c_[p][2] * v;
-        }
-        const double ux = jx / m, uy = jy / m, uz = jz / m;
-        const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-        f[q][l.s] = -f[opp_[q]][l.x] +
-                    2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
-        break;
+  // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
+  double* base = f_.component(0);
+  const BoundaryPlan& plan = plans_[streamed_];
+  // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
+  for (const auto& [dst, src] : plan.copies) base[dst] = base[src];
+  // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
+  for (std::size_t i = 0; i < plan.inlet.size(); ++i)
+    base[plan.inlet[i][0]] = base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in;
+  // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of the
+  // equilibrium enters, so the cell's velocity does not feed back linearly. (Plain equilibrium
+  // with the cell's velocity grew round-off at outlet/wall corners into a blow-up after ~4e4
+  // steps.) The cell's velocity is computed once for its consecutive links.
+  const double* f[32];
+  post_view(f);
+  std::int64_t cell = -1;
+  double ux = 0, uy = 0, uz = 0;
+  for (const auto& l : plan.pressure) {
+    if (l.cell != cell) {
+      cell = l.cell;
+      double m = 0, jx = 0, jy = 0, jz = 0;
+      for (int p = 0; p < nq_; ++p) {
+        const double v = f[p][cell];
+        m += v;
+        jx += c_[p][0] * v;
+        jy += c_[p][1] * v;
+        jz += c_[p][2] * v;
       }
-      case int(FaceType::kZeroGradient):
-        f[q][l.s] = f[q][l.x];
-        break;
-      default:  // half-way bounce-back
-        f[q][l.s] = f[opp_[q]][l.x];
+      ux = jx / m, uy = jy / m, uz = jz / m;
     }
+    const int q = l.q;
+    const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
+    base[l.dst] =
+        -base[l.src] + 2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
   }
 }
 
 void LbmSolver::sweep(bool macro) {
   const Vec3& bf = params_.body_force;
-  SweepArgs a{
+  AaSweepArgs a{
       &f_,
-      &f_next_,
       &force_,
       &rho_,
       &u_,
@@ -431,20 +585,26 @@ void LbmSolver::sweep(bool macro) {
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
-  SweepFn fn = params_.lattice == "D3Q15" ? pick1<D3Q15>(params_.trt, fm, macro, has_solids_)
-                                          : pick1<D3Q19>(params_.trt, fm, macro, has_solids_);
+  const bool from_post = !streamed_;
+  SweepFn fn = params_.lattice == "D3Q15"
+                   ? pick1<D3Q15>(params_.trt, fm, from_post, macro, has_solids_)
+                   : pick1<D3Q19>(params_.trt, fm, from_post, macro, has_solids_);
   fn(a);
 }
 
 void LbmSolver::step(bool update_macro) {
+  // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
+  // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
+  const bool neighbour_step = !streamed_;
   double t0 = MPI_Wtime();
-  halo_->exchange();
+  if (neighbour_step) halo_->exchange();
   double t1 = MPI_Wtime();
   apply_boundaries();
   double t2 = MPI_Wtime();
   sweep(update_macro);
   double t3 = MPI_Wtime();
-  f_.swap(f_next_);  // the halo exchange holds &f_, which now owns the new populations
+  if (neighbour_step) fold_->fold();
+  streamed_ = neighbour_step;
   if (update_macro) halo_u_->exchange();
   double t4 = MPI_Wtime();
   t_halo_ += (t1 - t0) + (t4 - t3);
@@ -456,11 +616,16 @@ void LbmSolver::step(bool update_macro) {
 
 double LbmSolver::total_mass() const {
   const Index3 n = decomp_.local_cells();
+  const double* post[32];
+  post_view(post);
   double local = 0;
   for (int q = 0; q < nq_; ++q)
     for (int k = 0; k < n.z; ++k)
       for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) local += f_(i, j, k, q);
+        for (int i = 0; i < n.x; ++i) {
+          const std::ptrdiff_t c = f_.index(i, j, k);
+          local += solid_[c] ? w_[q] : post[q][c];
+        }
   double global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, decomp_.comm());
   return global;
@@ -468,14 +633,17 @@ double LbmSolver::total_mass() const {
 
 void LbmSolver::check_health(double rho_min, double rho_max) const {
   const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo;
+  const double* post[32];
+  post_view(post);
   long long bad = -1;
   double bad_rho = 0;
   for (int k = 0; k < n.z && bad < 0; ++k)
     for (int j = 0; j < n.y && bad < 0; ++j)
       for (int i = 0; i < n.x; ++i) {
-        if (solid_[f_.index(i, j, k)]) continue;
+        const std::ptrdiff_t c = f_.index(i, j, k);
+        if (solid_[c]) continue;
         double m = 0;
-        for (int q = 0; q < nq_; ++q) m += f_(i, j, k, q);
+        for (int q = 0; q < nq_; ++q) m += post[q][c];
         if (!std::isfinite(m) || m < rho_min || m > rho_max) {
           const Index3 gc{lo.x + i, lo.y + j, lo.z + k};
           bad = (static_cast<long long>(gc.z) * decomp_.global_cells().y + gc.y) *
@@ -501,7 +669,8 @@ void LbmSolver::check_health(double rho_min, double rho_max) const {
 }
 
 void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {
-  w.write_field("lbm_populations", f_, 0, nq_);
+  // Natural order on either parity, so a restart onto any rank count continues bitwise.
+  w.write_field("lbm_populations", natural_populations(), 0, nq_);
   w.write_attribute("lbm_step", static_cast<std::int64_t>(step_));
   w.write_attribute("lbm_lattice", params_.lattice);
 }
@@ -513,7 +682,14 @@ void LbmSolver::read_checkpoint(io::CheckpointReader& r) {
         fmt::format("checkpoint uses lattice {} but the deck says lbm.lattice = "
                     "{}",
                     lattice, params_.lattice));
-  r.read_field("lbm_populations", f_, 0, nq_);
+  const Index3 n = decomp_.local_cells();
+  grid::Field<Real> natural(n, nq_, 1);
+  r.read_field("lbm_populations", natural, 0, nq_);
+  for (int q = 0; q < nq_; ++q)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) f_(i, j, k, opp_[q]) = natural(i, j, k, q);
+  streamed_ = false;
   step_ = r.read_attribute_int("lbm_step");
   update_macroscopic();
 }

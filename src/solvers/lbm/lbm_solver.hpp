@@ -3,10 +3,12 @@
 /// \brief Lattice-Boltzmann water solver: D3Q15/D3Q19, BGK/TRT, Guo forcing, bounce-back walls and
 /// solids, free-slip, velocity inlet patch (the fountain jet), pressure / zero-gradient outlet.
 ///
-/// Storage: structure of arrays, two population buffers, fused pull-stream + collide (one sweep
-/// reads Q populations from the neighbours and writes Q post-collision values). Boundaries are
-/// applied before the sweep by writing, into the ghost or solid cell a link pulls from, the value
-/// the link must deliver; the sweep itself has no boundary branches. See docs/lbm.md.
+/// Storage: structure of arrays, one population buffer streamed in place with the AA pattern
+/// (aa_sweep.hpp): steps alternate between a neighbour step (from the post-collision state) and a
+/// local step (from the streamed state). Boundaries are applied before each sweep by writing, into
+/// the location a boundary link reads, the value the link must deliver; the sweep itself has no
+/// boundary branches. Checkpoints and the macroscopic fields see the post-collision populations
+/// in natural order on either step parity. See docs/lbm.md.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -15,9 +17,11 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "core/memory.hpp"
 #include "core/types.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
+#include "grid/ghost_fold.hpp"
 #include "grid/halo_exchange.hpp"
 #include "solvers/lbm/unit_converter.hpp"
 
@@ -83,6 +87,10 @@ class LbmSolver {
  public:
   /// \brief Declare every `lbm.*` key.
   static void declare_config(core::ConfigSchema& schema);
+  /// \brief Bytes this rank will allocate for `params` on `decomp` (for core::check_memory):
+  /// populations, macroscopic fields, solid flags and boundary links, output arrays.
+  static std::vector<core::MemoryItem> memory_estimate(const grid::Decomposition& decomp,
+                                                       const LbmParams& params);
 
   LbmSolver(const grid::Decomposition& decomp, const LbmParams& params);
   ~LbmSolver();
@@ -137,9 +145,26 @@ class LbmSolver {
     std::int32_t type;   ///< FaceType or inlet (-1)
     double coef;         ///< inlet: 6 w_q (c_q.n) profile
   };
+  /// \brief The links of one step parity as linear indices into the population buffer (dst is
+  /// written from src), grouped by kind so that each kind is one tight loop.
+  struct BoundaryPlan {
+    std::vector<std::array<std::int64_t, 2>> copies;  ///< wall, free slip, zero gradient
+    std::vector<std::array<std::int64_t, 2>> inlet;   ///< moving wall, + coef * u_in
+    std::vector<double> inlet_coef;
+    struct Pressure {
+      std::int64_t dst, src, cell;  ///< src: the opposite population of cell
+      std::int32_t q;
+    };
+    std::vector<Pressure> pressure;  ///< consecutive per cell
+  };
   void build_links();
+  void build_plans();
   void apply_boundaries();
   void sweep(bool macro);
+  /// \brief post[q][c] is the post-collision population q of cell c in either state.
+  void post_view(const double* post[32]) const;
+  /// \brief The post-collision populations in natural order (solid cells at rest, w_q).
+  grid::Field<Real> natural_populations() const;
 
   const grid::Decomposition& decomp_;
   LbmParams params_;
@@ -148,11 +173,15 @@ class LbmSolver {
   std::vector<std::array<int, 3>> c_;
   std::vector<double> w_;
   std::vector<int> opp_;
-  grid::Field<Real> f_, f_next_, force_, rho_, u_;
+  grid::Field<Real> f_, force_, rho_, u_;
+  std::vector<std::ptrdiff_t> offset_;  ///< linear index offset of c_q
+  bool streamed_ = false;               ///< f_ holds the streamed state (after a neighbour step)
   std::vector<std::uint8_t> solid_;
   bool has_solids_ = false, use_force_field_ = false;
-  std::unique_ptr<grid::HaloExchange> halo_, halo_u_;
+  std::unique_ptr<grid::HaloExchange> halo_, halo_u_;  ///< before a neighbour step; velocity
+  std::unique_ptr<grid::GhostFold> fold_;              ///< after a neighbour step
   std::vector<Link> links_;
+  BoundaryPlan plans_[2];  ///< [streamed_]
   long long step_ = 0;
   double updates_ = 0, t_collide_ = 0, t_halo_ = 0, t_boundary_ = 0;
 };

@@ -8,7 +8,6 @@
 
 namespace biota::solvers::mac {
 namespace {
-constexpr int kGhosts = 2;  // second-order upwinding reaches two faces upstream
 
 bool is_outflow(BoundaryType t) {
   return t == BoundaryType::kOutflow || t == BoundaryType::kConvectiveOutflow;
@@ -40,14 +39,14 @@ MacSolver::MacSolver(const grid::Decomposition& decomp, MacParams params, core::
   for (int a = 0; a < 3; ++a)
     if (d_.periodic(a) != (type(a, 0) == BoundaryType::kPeriodic))
       throw std::logic_error("MacSolver: decomposition periodicity differs from the boundaries");
-  u_ = grid::Field<Real>(n_, 3, kGhosts);
-  ustar_ = grid::Field<Real>(n_, 3, kGhosts);
-  rhs_ = grid::Field<Real>(n_, 3, kGhosts);
-  force_ = grid::Field<Real>(n_, 3, kGhosts);
-  phi_ = grid::Field<Real>(n_, 1, kGhosts);
-  psi_ = grid::Field<Real>(n_, 1, kGhosts);
-  div_ = grid::Field<Real>(n_, 1, kGhosts);
-  solid_ = grid::Field<Real>(n_, 1, kGhosts);
+  u_ = grid::Field<Real>(n_, 3, MacSolver::kGhosts);
+  ustar_ = grid::Field<Real>(n_, 3, MacSolver::kGhosts);
+  rhs_ = grid::Field<Real>(n_, 3, MacSolver::kGhosts);
+  force_ = grid::Field<Real>(n_, 3, MacSolver::kGhosts);
+  phi_ = grid::Field<Real>(n_, 1, MacSolver::kGhosts);
+  psi_ = grid::Field<Real>(n_, 1, MacSolver::kGhosts);
+  div_ = grid::Field<Real>(n_, 1, MacSolver::kGhosts);
+  solid_ = grid::Field<Real>(n_, 1, MacSolver::kGhosts);
   halo_u_ = std::make_unique<grid::HaloExchange>(d_, u_);
   halo_ustar_ = std::make_unique<grid::HaloExchange>(d_, ustar_);
   halo_psi_ = std::make_unique<grid::HaloExchange>(d_, psi_);
@@ -140,8 +139,8 @@ void MacSolver::project_initial() {
 template <class F>
 void MacSolver::for_each_face_line(const grid::Field<Real>& field, int a, F&& f) const {
   const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-  for (int y = -kGhosts; y < n_[b2] + kGhosts; ++y)
-    for (int x = -kGhosts; x < n_[b1] + kGhosts; ++x) {
+  for (int y = -MacSolver::kGhosts; y < n_[b2] + MacSolver::kGhosts; ++y)
+    for (int x = -MacSolver::kGhosts; x < n_[b1] + MacSolver::kGhosts; ++x) {
       int loc[3];
       loc[a] = 0;
       loc[b1] = x;

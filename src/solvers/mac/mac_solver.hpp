@@ -70,6 +70,8 @@ struct StepStats {
 /// \brief The staggered incompressible solver on one Decomposition.
 class MacSolver {
  public:
+  /// Ghost layers of every field: second-order upwinding reaches two faces upstream.
+  static constexpr int kGhosts = 2;
   /// Sections added to `timers`: wind.advection, wind.diffusion, wind.poisson, wind.correction,
   /// wind.halo, wind.boundary.
   MacSolver(const grid::Decomposition& decomp, MacParams params, core::Timers& timers);

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <string>
 
+#include "core/error.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
 #include "grid/halo_exchange.hpp"
@@ -91,4 +93,43 @@ TEST(HaloExchange, ReverseSumAddsGhostContributionsToOwners) {
   // A corner cell receives its own deposit plus 7 periodic images (3 faces, 3 edges, 1 corner)
   // only when one rank spans the whole domain; in general each owned cell gets 1 + (number of
   // ghost images of it in the domain), which we check globally above.
+}
+
+// Ghost width 2 with a 1-cell rank block: the neighbour would pack its own (stale) ghost layer
+// into our second ghost layer. Rejected on every rank alike with one message naming the key; a
+// 2-cell block is accepted and exchanges exactly.
+TEST(HaloExchange, RejectsBlocksThinnerThanTheHalo) {
+  int P = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &P);
+  for (bool periodic : {false, true}) {
+    Decomposition thin(MPI_COMM_WORLD, {P == 1 ? 1 : 2 * P - 1, 4, 3}, {periodic, false, false},
+                       {P, 1, 1});
+    Field<double> f(thin.local_cells(), 1, 2, 0.0);
+    if (P == 1) {  // no other rank along x (a periodic self-copy keeps a uniform 1-cell axis)
+      EXPECT_NO_THROW(HaloExchange(thin, f));
+      continue;
+    }
+    try {
+      HaloExchange h(thin, f);
+      ADD_FAILURE() << "1-cell blocks accepted with a 2-cell halo, periodic " << periodic;
+    } catch (const biota::core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("cells along x"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("ranks"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(check_halo_width(thin, 2, {"wind.nx", "wind.ny", "wind.nz"}),
+                 biota::core::InputError);
+  }
+  // 2 cells per rank, periodic: every ghost layer equals the global index it images.
+  const int n = 2 * P;
+  Decomposition ok(MPI_COMM_WORLD, {n, 3, 3}, {true, false, false}, {P, 1, 1});
+  Field<double> f(ok.local_cells(), 1, 2, -1.0);
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 2; ++i) f(i, j, k) = ok.local_box().lo.x + i;
+  HaloExchange h(ok, f);
+  h.exchange();
+  for (int i = -2; i < 4; ++i) {
+    const int g = ((ok.local_box().lo.x + i) % n + n) % n;
+    EXPECT_EQ(f(i, 1, 1), g) << "local x " << i;
+  }
 }

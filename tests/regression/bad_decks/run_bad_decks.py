@@ -65,6 +65,19 @@ CASES = [
      "lbm.nx, lbm.ny, lbm.nz = 2 x 2 x 2 cells cannot be split over 3 MPI ranks", 3),
     # Issue 8: an interval of 2^32 became 0 in an int (SIGFPE); every integer key has a range now.
     ("interval overflow", FLOCK, ["--set", "flock.stats_interval=4294967296"], "flock.stats_interval"),
+    # Issue 8: geometric keys that select no cell or lie outside the domain (0.08 m tank here).
+    ("inlet outside the tank", GOOD + '[lbm.inlet]\nface = "z_lo"\ncenter = [5.0, 5.0]\nradius = 0.02\nspeed = 0.01\n',
+     [], "lbm.inlet.center = [5, 5] lies outside the face"),
+    ("inlet selecting no cell", GOOD + '[lbm.inlet]\nface = "z_lo"\ncenter = [0.04, 0.04]\nradius = 0.001\nspeed = 0.01\n',
+     [], "lbm.inlet.center"),
+    ("outlet ring selecting no cell", GOOD + '[lbm.outlet]\nface = "z_lo"\ncenter = [0.04, 0.04]\nr_min = 0.5\n',
+     [], "lbm.outlet.center"),
+    ("placement box outside", GOOD.replace('"tank"', '"seaweed"').replace("tau = 0.6", "tau = 0.6\ndt = 0.0016666666666666668"),
+     ["--set", "seaweed.placement.hi=[0.5, 0.06, 0.06]", "--set", "seaweed.plants=1"], "seaweed.placement.lo"),
+    ("predator start outside", FLOCK, ["--set", "flock.predator.start=[500, 5, 5]"], "flock.predator.start"),
+    # Issue 8: a grid too large for the machine: one line, needed vs available (was bad_alloc).
+    ("grid too large", GOOD, ["--set", "lbm.nx=100000", "--set", "lbm.ny=100000", "--set", "lbm.nz=100000"],
+     "lbm.nx x lbm.ny x lbm.nz = 100000 x 100000 x 100000 cells (D3Q15) need about"),
     ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
      "run.progress_interval"),
 ]

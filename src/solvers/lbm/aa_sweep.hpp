@@ -1,0 +1,102 @@
+#pragma once
+/// \file aa_sweep.hpp
+/// \brief The production LBM sweep: in-place streaming on one population buffer, AA pattern
+/// (Bailey et al. 2009), fused with the collision.
+///
+/// Two kinds of step alternate. Write f*_q(x) for the post-collision population q of cell x.
+///  - From the post state (slot opp(q) of cell x holds f*_q(x)): every cell x reads its streamed
+///    population q from slot opp(q) of x - c_q, collides, and writes f*'_q(x) into slot q of
+///    x + c_q: exactly the locations it read. Afterwards the buffer is in the streamed state.
+///  - From the streamed state (slot q of x holds what streams into x): every cell reads slot q of
+///    x, collides and writes f*'_q(x) into slot opp(q) of x. Purely local.
+/// Both do the arithmetic of `collide`, so they give the bits of a two-grid pull sweep
+/// (`stream_collide`), which is kept as a benchmark variant. Solid cells keep what they hold
+/// (a select, so the loop still vectorises); the boundary code gives their links meaning.
+#include <cstdint>
+
+#include "grid/field.hpp"
+#include "solvers/lbm/collision.hpp"
+#include "solvers/lbm/stream_collide.hpp"
+
+namespace biota::solvers::lbm {
+
+/// \brief Arguments of one in-place sweep (`f` is read and written).
+struct AaSweepArgs {
+  grid::Field<double>* f;
+  const grid::Field<double>* force;
+  grid::Field<double>* rho;
+  grid::Field<double>* u;
+  const std::uint8_t* solid;
+  double uniform_force[3];
+  Relaxation relax;
+};
+
+/// \brief One in-place step over the owned cells; `kFromPost` selects the neighbour step.
+template <class L, bool kTrt, ForceMode kForce, bool kMacro, bool kSolids, bool kFromPost>
+void aa_stream_collide(const AaSweepArgs& a) {
+  constexpr int Q = L::Q;
+  auto& fld = *a.f;
+  const auto n = fld.cells();
+  double* rp[Q];
+  double* wp[Q];
+  for (int q = 0; q < Q; ++q) {
+    const std::ptrdiff_t off =
+        L::c[q][0] + L::c[q][1] * fld.stride_y() + L::c[q][2] * fld.stride_z();
+    rp[q] = kFromPost ? fld.component(L::opp[q]) - off : fld.component(q);
+    wp[q] = kFromPost ? fld.component(q) + off : fld.component(L::opp[q]);
+  }
+  const double* fx = kForce == ForceMode::kField ? a.force->component(0) : nullptr;
+  const double* fy = kForce == ForceMode::kField ? a.force->component(1) : nullptr;
+  const double* fz = kForce == ForceMode::kField ? a.force->component(2) : nullptr;
+  double* rhop = kMacro ? a.rho->component(0) : nullptr;
+  double* ux = kMacro ? a.u->component(0) : nullptr;
+  double* uy = kMacro ? a.u->component(1) : nullptr;
+  double* uz = kMacro ? a.u->component(2) : nullptr;
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j) {
+      const std::ptrdiff_t row = fld.index(0, j, k);
+      // Each cell writes exactly the locations it read and no other cell touches them.
+#pragma GCC ivdep
+      for (std::ptrdiff_t c = row; c < row + n.x; ++c) {
+        double f[Q], in[Q];
+#pragma GCC unroll 32
+        for (int q = 0; q < Q; ++q) in[q] = f[q] = rp[q][c];
+        double gx = 0, gy = 0, gz = 0;
+        if constexpr (kForce == ForceMode::kUniform) {
+          gx = a.uniform_force[0];
+          gy = a.uniform_force[1];
+          gz = a.uniform_force[2];
+        } else if constexpr (kForce == ForceMode::kField) {
+          gx = a.uniform_force[0] + fx[c];
+          gy = a.uniform_force[1] + fy[c];
+          gz = a.uniform_force[2] + fz[c];
+        }
+        double rho, vx, vy, vz;
+        collide<L, kTrt>(f, a.relax, gx, gy, gz, rho, vx, vy, vz);
+        if constexpr (kSolids) {
+          // Location of slot q written here held the streamed population opp(q) read above.
+          const bool s = a.solid[c];
+#pragma GCC unroll 32
+          for (int q = 0; q < Q; ++q) wp[q][c] = s ? in[L::opp[q]] : f[q];
+        } else {
+#pragma GCC unroll 32
+          for (int q = 0; q < Q; ++q) wp[q][c] = f[q];
+        }
+        if constexpr (kMacro) {
+          if constexpr (kSolids) {  // solid cells keep their macroscopic values
+            const bool s = a.solid[c];
+            rho = s ? rhop[c] : rho;
+            vx = s ? ux[c] : vx;
+            vy = s ? uy[c] : vy;
+            vz = s ? uz[c] : vz;
+          }
+          rhop[c] = rho;
+          ux[c] = vx;
+          uy[c] = vy;
+          uz[c] = vz;
+        }
+      }
+    }
+}
+
+}  // namespace biota::solvers::lbm
