@@ -20,7 +20,7 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   MPI_Comm_size(comm, &size);
   core::ConfigSchema schema;
   schema.add_string("scenario", std::nullopt, {}, "scenario");
-  schema.add_int("seed", 12345, 0, std::nullopt, "seed");
+  schema.add_int("seed", 12345, 0, 1'000'000'000'000'000'000, "seed");
   scenarios::FlockScenario::declare_config(schema);
   const double R = 3.0;
   if (rank == 0)

@@ -112,19 +112,20 @@ void install_signal_handlers() {
 
 void declare_common_config(core::ConfigSchema& s) {
   s.add_string("scenario", std::nullopt, {}, "scenario to run (tank, seaweed, wind, flock, ...)");
-  s.add_int("run.steps", std::nullopt, 0, std::nullopt,
+  s.add_int("run.steps", std::nullopt, 0, 1'000'000'000'000,
             "(optional) last step number; the run ends at run.steps or run.end_time, whichever "
             "comes first");
   s.add_real("run.end_time", std::nullopt, 0.0, std::nullopt, "s", "(optional) simulated end time");
-  s.add_int("run.progress_interval", 100, 1, std::nullopt, "steps between progress lines");
-  s.add_int("run.health_interval", 100, 1, std::nullopt,
+  s.add_int("run.progress_interval", 100, 1, 1'000'000'000'000, "steps between progress lines");
+  s.add_int("run.health_interval", 100, 1, 1'000'000'000'000,
             "steps between checks for non-finite or out-of-range state");
-  s.add_int("seed", 12345, 0, std::nullopt, "seed of every random stream (Philox key)");
+  s.add_int("seed", 12345, 0, 1'000'000'000'000'000'000,
+            "seed of every random stream (Philox key)");
   s.add_string("output.dir", "out", {}, "directory for HDF5/XDMF/VTK output");
-  s.add_int("output.interval", 0, 0, std::nullopt,
+  s.add_int("output.interval", 0, 0, 1'000'000'000'000,
             "steps between output steps (0: only the first and last step)");
   s.add_string("checkpoint.dir", "out/checkpoints", {}, "directory for checkpoints");
-  s.add_int("checkpoint.interval", 0, 0, std::nullopt,
+  s.add_int("checkpoint.interval", 0, 0, 1'000'000'000'000,
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");
 }
 

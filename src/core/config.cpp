@@ -29,7 +29,7 @@ const char* type_name(ConfigType t) {
 }
 
 std::string fmt_num(double v) {
-  if (v == std::floor(v) && std::fabs(v) < 1e15) return fmt::format("{:.0f}", v);
+  if (v == std::floor(v) && std::fabs(v) < 1e19) return fmt::format("{:.0f}", v);
   return fmt::format("{}", v);
 }
 
@@ -83,6 +83,9 @@ void flatten(const toml::table& table, const std::string& prefix,
 }  // namespace
 
 void ConfigSchema::add(const std::string& key, KeySpec spec) {
+  if (spec.type == ConfigType::kInt && !(spec.min && spec.max))
+    throw std::logic_error("config schema: integer key '" + key +
+                           "' declared without a range; give both bounds");
   keys_[key] = std::move(spec);
 }
 
@@ -101,12 +104,12 @@ void ConfigSchema::add_real(const std::string& key, std::optional<double> def,
 }
 
 void ConfigSchema::add_int(const std::string& key, std::optional<std::int64_t> def,
-                           std::optional<double> min, std::optional<double> max, std::string doc) {
+                           std::int64_t min, std::int64_t max, std::string doc) {
   KeySpec s;
   s.type = ConfigType::kInt;
   if (def) s.default_value = *def;
-  s.min = min;
-  s.max = max;
+  s.min = static_cast<double>(min);
+  s.max = static_cast<double>(max);
   s.unit = "-";
   s.doc = std::move(doc);
   add(key, std::move(s));
@@ -205,9 +208,14 @@ void check_value(const std::string& source, const std::string& key, const KeySpe
     throw InputError(
         fmt::format("{}: {} = {} {}; allowed: {}", source, key, shown, why, describe_range(s)));
   };
-  if (s.type == ConfigType::kReal || s.type == ConfigType::kInt) {
-    double x = s.type == ConfigType::kReal ? std::get<double>(v)
-                                           : static_cast<double>(std::get<std::int64_t>(v));
+  if (s.type == ConfigType::kInt) {
+    // Compared as integers: above 2^53 a double cannot tell max from max + 1.
+    const std::int64_t x = std::get<std::int64_t>(v);
+    if (x < static_cast<std::int64_t>(*s.min) || x > static_cast<std::int64_t>(*s.max))
+      bad("is out of range");
+  }
+  if (s.type == ConfigType::kReal) {
+    const double x = std::get<double>(v);
     if (!std::isfinite(x)) bad("is not finite");
     if (s.min && (x < *s.min || (s.min_exclusive && x == *s.min))) bad("is out of range");
     if (s.max && (x > *s.max || (s.max_exclusive && x == *s.max))) bad("is out of range");

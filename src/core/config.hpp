@@ -37,13 +37,17 @@ class ConfigSchema {
  public:
   /// \brief Declare a key; declaring the same key twice with a different spec is a programming
   /// error.
+  /// \throws std::logic_error for an integer key without both bounds: every integer ends in a
+  /// C++ integer of fixed width (an interval of 2^32 became 0 and a division by zero), so each
+  /// one states the largest value its code can take.
   void add(const std::string& key, KeySpec spec);
   // Convenience declarations.
   void add_real(const std::string& key, std::optional<double> def, std::optional<double> min,
                 std::optional<double> max, std::string unit, std::string doc,
                 bool min_exclusive = false);
-  void add_int(const std::string& key, std::optional<std::int64_t> def, std::optional<double> min,
-               std::optional<double> max, std::string doc);
+  /// \brief An integer key with its inclusive range [min, max] (both required).
+  void add_int(const std::string& key, std::optional<std::int64_t> def, std::int64_t min,
+               std::int64_t max, std::string doc);
   void add_bool(const std::string& key, bool def, std::string doc);
   void add_string(const std::string& key, std::optional<std::string> def,
                   std::vector<std::string> choices, std::string doc);

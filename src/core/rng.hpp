@@ -25,6 +25,7 @@ enum class RngPurpose : std::uint64_t {
   kSandpile = 12,
   kChaosGame = 13,
   kFbm = 14,
+  kFbmSeries = 15,
   kMoss = 20,
   kPhoton = 21,
   kUser = 100,

@@ -4,21 +4,68 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.hpp"
+
 namespace biota::grid {
 
+namespace {
+
+bool fits(const Index3& dims, const Index3& cells) {
+  return dims.x <= cells.x && dims.y <= cells.y && dims.z <= cells.z;
+}
+
+// The rank grid with the fewest cut faces among those that fit the cells and keep the given
+// (non-zero) dims; {0, 0, 0} if none fits.
+Index3 compact_fitting_dims(int size, const Index3& cells, const Index3& given) {
+  Index3 best{0, 0, 0};
+  double best_cut = 0;
+  for (int a = 1; a <= size; ++a) {
+    if (size % a) continue;
+    for (int b = 1; b <= size / a; ++b) {
+      if ((size / a) % b) continue;
+      const Index3 d{a, b, size / a / b};
+      bool keeps = true;
+      for (int k = 0; k < 3; ++k) keeps = keeps && (given[k] == 0 || given[k] == d[k]);
+      if (!keeps || !fits(d, cells)) continue;
+      const double cut = double(d.x - 1) * cells.y * cells.z + double(d.y - 1) * cells.x * cells.z +
+                         double(d.z - 1) * cells.x * cells.y;
+      if (best.x == 0 || cut < best_cut) best = d, best_cut = cut;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
-                             Index3 dims)
+                             Index3 dims, const GridKeys& keys)
     : global_(global_cells), dims_(dims), periodic_(periodic) {
   int size = 0;
   MPI_Comm_size(comm, &size);
   int d[3] = {dims.x, dims.y, dims.z};
   MPI_Dims_create(size, 3, d);
   dims_ = {d[0], d[1], d[2]};
-  for (int a = 0; a < 3; ++a)
-    if (dims_[a] > global_[a])
-      throw std::invalid_argument("decomposition: " + std::to_string(dims_[a]) +
-                                  " ranks along axis " + std::to_string(a) + " but only " +
-                                  std::to_string(global_[a]) + " cells");
+  if (!fits(dims_, global_)) {
+    // MPI_Dims_create ignores the cells (8 ranks on 64 x 64 x 1 gives 2 x 2 x 2).
+    const Index3 alt = compact_fitting_dims(size, global_, dims);
+    if (alt.x == 0) {
+      // Every rank reaches this with the same numbers; only rank 0 prints InputErrors.
+      std::string names;
+      for (int a = 0; a < 3; ++a)
+        names += (a ? ", " : "") +
+                 (keys.cells[a].empty() ? std::string("xyz").substr(a, 1) : keys.cells[a]);
+      throw core::InputError(
+          (keys.source.empty() ? std::string("decomposition") : keys.source) + ": " + names +
+          " = " + std::to_string(global_.x) + " x " + std::to_string(global_.y) + " x " +
+          std::to_string(global_.z) + " cells cannot be split over " + std::to_string(size) +
+          " MPI ranks (every rank grid of " + std::to_string(size) + " ranks, e.g. " +
+          std::to_string(dims_.x) + " x " + std::to_string(dims_.y) + " x " +
+          std::to_string(dims_.z) +
+          ", puts more ranks than cells on an axis); use fewer ranks or more cells");
+    }
+    dims_ = alt;
+    d[0] = alt.x, d[1] = alt.y, d[2] = alt.z;
+  }
   int per[3] = {periodic[0], periodic[1], periodic[2]};
   // reorder = 0: the rank order of the input communicator is kept, so rank 0 stays rank 0.
   MPI_Cart_create(comm, 3, d, per, 0, &cart_);

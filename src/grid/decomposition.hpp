@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <string>
 
 #include "core/types.hpp"
 
@@ -27,15 +28,24 @@ constexpr int block_start(int n, int parts, int index) {
   return index * base + (index < rem ? index : rem);
 }
 
+/// \brief The deck keys that set a grid's cells, named in the error when the ranks do not fit.
+struct GridKeys {
+  std::string source;                ///< deck file (empty: not from a deck)
+  std::array<std::string, 3> cells;  ///< e.g. {"lbm.nx", "lbm.ny", "lbm.nz"}
+};
+
 /// \brief The rank grid (MPI_Cart_create) and this rank's block of a global cell grid.
 ///
 /// Cells are the unit: a grid of `global_cells` cells of size `dx`, origin at 0. Uneven splits are
 /// allowed (100 cells on 3 ranks gives 34, 33, 33).
 class Decomposition {
  public:
-  /// \param dims rank grid; zeros are filled by MPI_Dims_create.
+  /// \param dims rank grid; zeros are filled by MPI_Dims_create, or, where its choice puts more
+  /// ranks than cells on an axis, by the most compact rank grid that fits the cells.
+  /// \param keys deck keys named in the error message.
+  /// \throws core::InputError (the same on every rank) if no rank grid gives each rank a cell.
   Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
-                Index3 dims = {0, 0, 0});
+                Index3 dims = {0, 0, 0}, const GridKeys& keys = {});
   ~Decomposition();
   Decomposition(const Decomposition&) = delete;
   Decomposition& operator=(const Decomposition&) = delete;

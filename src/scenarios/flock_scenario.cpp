@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "core/rng.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
@@ -37,7 +38,7 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
             "neighbour bins have edge perception_radius / reach (more, smaller bins: fewer "
             "candidates, more rows)");
   s.add_real("flock.dt", 0.05, 0.0, std::nullopt, "s", "time step (one animation frame)", true);
-  s.add_int("flock.stats_interval", 5, 1, std::nullopt, "steps between rows of flock_order.csv");
+  s.add_int("flock.stats_interval", 5, 1, 1'000'000'000, "steps between rows of flock_order.csv");
   // Boids (spec 2.1).
   s.add_int("flock.prey.count", 0, 0, 100000000,
             "number of prey; 0: L^3 (one per sandpile site, the paper's choice)");
@@ -77,7 +78,7 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
              "flee acceleration (priority 1)");
   s.add_real("flock.prey.flee_boost_weight", 60.0, 0.0, std::nullopt, "m/s^2",
              "flee acceleration of prey whose site toppled (any distance)");
-  s.add_int("flock.prey.flee_frames", 40, 0, std::nullopt,
+  s.add_int("flock.prey.flee_frames", 40, 0, 1'000'000'000,
             "frames a prey flees with the boost after its site toppled");
   // Sandpile coupling (spec 2.3, 2.5).
   s.add_int("flock.sandpile.size", 10, 1, 400, "edge L of the L^3 sandpile lattice");
@@ -85,7 +86,7 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
              "grains are added while a predator is this close to its nearest prey");
   s.add_int("flock.sandpile.grains_per_frame", 1, 1, 1000,
             "grains added per frame per triggering predator");
-  s.add_int("flock.sandpile.warmup", 0, 0, std::nullopt,
+  s.add_int("flock.sandpile.warmup", 0, 0, 1'000'000'000,
             "random drives before t = 0 (not recorded) to reach the critical state (spec 5.17)");
   s.add_string("flock.sandpile.order", "waves", {"waves", "stack"},
                "toppling order (waves measures durations; both give the same avalanches)");
@@ -93,7 +94,9 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("flock.noise.hurst", 0.2, 0.01, 0.99, "-", "Hurst exponent of every fBm");
   s.add_string("flock.noise.signal", "path", {"path", "increments"},
                "heading noise from the fBm path (1/f^(2H+1)) or its increments (1/f^(2H-1))");
-  s.add_int("flock.noise.levels", 8, 1, 20, "heading noise comes in blocks of 2^levels frames");
+  s.add_int("flock.noise.levels", 8, 1, 20,
+            "heading noise: flock.noise.heading is its RMS change over 2^levels frames (blocks of "
+            "one long fBm path)");
   s.add_real("flock.noise.heading", 0.3, 0.0, std::nullopt, "rad",
              "RMS turn of the acceleration direction");
   s.add_real("flock.noise.cruising_distance", 0.15, 0.0, 0.9, "-",
@@ -120,6 +123,12 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
                   "launch direction (a random 30% sideways part is added per boid)");
 }
 
+FlockScenario::OwnedComm::~OwnedComm() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (comm != MPI_COMM_NULL && !finalized) MPI_Comm_free(&comm);
+}
+
 FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& c = ctx.config;
   seed_ = static_cast<std::uint64_t>(c.get_int("seed"));
@@ -142,7 +151,11 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
         c.fail("flock.domain.size",
                "must be >= 3 perception radii on a periodic box (no double images)");
   decomp_ = std::make_unique<grid::Decomposition>(
-      ctx.comm, cells, std::array<bool, 3>{periodic_, periodic_, periodic_});
+      ctx.comm, cells, std::array<bool, 3>{periodic_, periodic_, periodic_}, core::Index3{0, 0, 0},
+      grid::GridKeys{
+          c.source(),
+          {"flock.domain.size[0] / flock.domain.dx", "flock.domain.size[1] / flock.domain.dx",
+           "flock.domain.size[2] / flock.domain.dx"}});
   pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
   lo_ = pcomm_->domain_lo();
   hi_ = pcomm_->domain_hi();
@@ -172,13 +185,47 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
   const auto& ps = c.get_real_list("flock.predator.start");
   pred_start_ = {ps[0], ps[1], ps[2]};
+  // Points of the deck must lie in the box (a point outside selects no rank's cell).
+  for (const char* key : {"flock.predator.start", "flock.takeoff.origin"}) {
+    const auto& q = c.get_real_list(key);
+    for (int d = 0; d < 3; ++d)
+      if (!(q[d] >= 0 && q[d] <= size[d]))
+        c.fail(key, fmt::format("lies outside the box [0, {}] x [0, {}] x [0, {}] m "
+                                "(flock.domain.size)",
+                                size[0], size[1], size[2]));
+  }
 
   const int L = static_cast<int>(c.get_int("flock.sandpile.size"));
   n_prey_ = c.get_int("flock.prey.count");
   if (n_prey_ == 0) n_prey_ = 1LL * L * L * L;
+  {
+    // Replicated on every rank: the take-off points (orbit and positions, 48 B per prey), the
+    // sandpile (heights, flee timers, toppling lists: ~40 B per site) and two 2D fBm fields over
+    // the take-off grid; per rank: its share of the boids (~200 B each with ghosts and bins).
+    int ranks = 1;
+    MPI_Comm_size(ctx.comm, &ranks);
+    const double prey = double(n_prey_), sites = double(L) * L * L;
+    const double grid_side = std::ceil(std::sqrt(prey)) * 2 + 1;
+    core::check_memory(ctx.comm, c,
+                       {{"take-off points", 48 * prey},
+                        {"sandpile", 40 * sites},
+                        {"fBm fields", 2 * 8 * grid_side * grid_side},
+                        {"boids", 200 * (prey + double(n_pred_)) / ranks}},
+                       fmt::format("flock.prey.count = {} prey and flock.sandpile.size = {} ({}^3 "
+                                   "sites)",
+                                   n_prey_, L, L));
+  }
   sandpile_ = std::make_unique<mf::Sandpile>(L, L, L, seed_);
-  lattice_ = std::make_unique<grid::Decomposition>(ctx.comm, core::Index3{L, L, L},
-                                                   std::array<bool, 3>{false, false, false});
+  {
+    int rank = 0, size = 1;
+    MPI_Comm_rank(ctx.comm, &rank);
+    MPI_Comm_size(ctx.comm, &size);
+    const bool writes = rank < std::min(size, L);
+    MPI_Comm_split(ctx.comm, writes ? 0 : MPI_UNDEFINED, rank, &lattice_comm_.comm);
+    if (writes)
+      lattice_ = std::make_unique<grid::Decomposition>(lattice_comm_.comm, core::Index3{L, L, L},
+                                                       std::array<bool, 3>{false, false, false});
+  }
   {
     auto scope = ctx_.timers.scope("setup");
     const long long warm = c.get_int("flock.sandpile.warmup");
@@ -426,8 +473,8 @@ void FlockScenario::drive_sandpile(const std::vector<Predator>& preds,
       for (std::int64_t s : sandpile_->last_toppled_sites()) flee_until_[s] = step_ + flee_frames_;
       ++avalanches_;
       if (root && aval_csv_.is_open())
-        aval_csv_ << fmt::format("{},{:.6f},{},{},{},{},{},{},{}\n", step_, time(), preds[p].id,
-                                 near[p].id, site, a.size, a.area, a.duration, a.lost);
+        aval_csv_.row(fmt::format("{},{:.6f},{},{},{},{},{},{},{}", step_, time(), preds[p].id,
+                                  near[p].id, site, a.size, a.area, a.duration, a.lost));
     }
   }
 }
@@ -439,8 +486,8 @@ double FlockScenario::heading_angle(core::GlobalId id) {
   auto& e = noise_cache_[id];
   if (e.second.empty() || e.first != block) {
     e.first = block;
-    e.second = mf::heading_noise_block(noise_levels_, noise_hurst_, noise_signal_, seed_, id,
-                                       block % (1u << 20));
+    e.second =
+        mf::heading_noise_block(noise_levels_, noise_hurst_, noise_signal_, seed_, id, block);
   }
   return noise_heading_ * e.second[static_cast<std::uint64_t>(step_) % n];
 }
@@ -604,24 +651,28 @@ void FlockScenario::record_order(const std::vector<NearestPrey>& near) {
                   : 0.0;
   if (decomp_->rank() == 0 && order_csv_.is_open()) {
     const double dnear = near.empty() || near[0].id == kNone ? -1.0 : std::sqrt(near[0].d2);
-    order_csv_ << fmt::format("{},{:.6f},{},{},{:.8f},{:.6f},{},{},{}\n", step_, time(),
-                              last_flying_, last_fleeing_, last_phi_, dnear,
-                              sandpile_->grains_added(), sandpile_->topplings(), avalanches_)
-               << std::flush;
-    aval_csv_ << std::flush;
+    order_csv_.row(fmt::format("{},{:.6f},{},{},{:.8f},{:.6f},{},{},{}", step_, time(),
+                               last_flying_, last_fleeing_, last_phi_, dnear,
+                               sandpile_->grains_added(), sandpile_->topplings(), avalanches_));
   }
 }
 
-void FlockScenario::open_csv(bool append) {
-  std::filesystem::create_directories(ctx_.output_dir);
-  const auto mode = append ? std::ios::app : std::ios::trunc;
-  order_csv_.open(ctx_.output_dir + "/flock_order.csv", std::ios::out | mode);
-  aval_csv_.open(ctx_.output_dir + "/flock_avalanches.csv", std::ios::out | mode);
-  if (!append) {
-    order_csv_ << "step,time,flying,fleeing,polarisation,predator_distance,grains_added,"
-                  "topplings,avalanches\n";
-    aval_csv_ << "step,time,predator,prey,site,size,area,duration,lost\n";
+void FlockScenario::open_csv(bool resume) {
+  const std::string order = ctx_.output_dir + "/flock_order.csv";
+  const std::string aval = ctx_.output_dir + "/flock_avalanches.csv";
+  const std::string order_header =
+      "step,time,flying,fleeing,polarisation,predator_distance,grains_added,topplings,avalanches";
+  const std::string aval_header = "step,time,predator,prey,site,size,area,duration,lost";
+  if (!resume) {
+    order_csv_.start(order, order_header);
+    aval_csv_.start(aval, aval_header);
+    return;
   }
+  // Rows carry the step they were made in (before it advanced): a checkpoint at step S holds
+  // steps 0 .. S-1, so rows with step >= S are the abandoned future.
+  const double keep = static_cast<double>(step_) - 0.5;
+  order_csv_.resume(order, order_header, keep);
+  aval_csv_.resume(aval, aval_header, keep);
 }
 
 std::vector<BoidRecord> FlockScenario::gather_boids() const {
@@ -654,7 +705,9 @@ void FlockScenario::write_output() {
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "flock_boids", step_, time(),
                          ctx_.config.effective_toml());
   out.write(d);
-  // Sandpile lattice (replicated) written through its own L^3 decomposition, one unit per site.
+  // Sandpile lattice (replicated) written through its own L^3 decomposition, one unit per site,
+  // by the ranks of lattice_comm_ only.
+  if (!lattice_) return;
   const auto& b = lattice_->local_box();
   std::vector<double> h, left;
   for (int z = b.lo.z; z < b.hi.z; ++z)

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "grid/decomposition.hpp"
+#include "io/csv_series.hpp"
 #include "models/flock/boid_noise.hpp"
 #include "models/flock/boid_rules.hpp"
 #include "models/flock/sandpile.hpp"
@@ -83,7 +84,7 @@ class FlockScenario : public Scenario {
   void drive_sandpile(const std::vector<Predator>& preds, const std::vector<NearestPrey>& near);
   double heading_angle(core::GlobalId id);
   void record_order(const std::vector<NearestPrey>& near);
-  void open_csv(bool append);
+  void open_csv(bool resume);
   bool flying(core::GlobalId id) const;
   bool is_prey(core::GlobalId id) const { return id < static_cast<core::GlobalId>(n_prey_); }
   bool fleeing(core::GlobalId id) const {
@@ -124,7 +125,15 @@ class FlockScenario : public Scenario {
   std::unordered_map<core::GlobalId, std::pair<std::uint64_t, std::vector<double>>> noise_cache_;
   // Sandpile coupling.
   std::unique_ptr<models::flock::Sandpile> sandpile_;
-  std::unique_ptr<grid::Decomposition> lattice_;
+  /// \brief A communicator this object frees (after the decomposition built on it).
+  struct OwnedComm {
+    MPI_Comm comm = MPI_COMM_NULL;
+    ~OwnedComm();
+  };
+  /// The replicated sandpile is written by the first min(ranks, L) ranks: more ranks than L would
+  /// leave a rank without a site along an axis (L = 1 on 2 ranks aborted).
+  OwnedComm lattice_comm_;
+  std::unique_ptr<grid::Decomposition> lattice_;  ///< null on ranks outside lattice_comm_
   std::vector<long long> flee_until_;  // per site: prey of the site flee while step < value
   double trigger_radius_ = 0;
   int grains_per_frame_ = 1;
@@ -141,7 +150,7 @@ class FlockScenario : public Scenario {
   int stats_every_ = 1;
   double last_phi_ = 0;
   long long last_fleeing_ = 0, last_flying_ = 0;
-  std::ofstream order_csv_, aval_csv_;
+  io::CsvSeries order_csv_, aval_csv_;
 };
 
 }  // namespace biota::scenarios

@@ -37,13 +37,19 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
              "minimum distance between seeds");
   s.add_bool("seaweed.two_way", true, "plants act back on the water (false: the paper's one-way)");
   s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
-  s.add_int("seaweed.metrics_interval", 6, 1, std::nullopt, "physics steps between metric rows");
+  s.add_int("seaweed.metrics_interval", 6, 1, 1'000'000'000, "physics steps between metric rows");
 }
 
 SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& cfg = ctx.config;
   auto params = solvers::lbm::LbmParams::from_config(cfg);
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
+      grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
+                     "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
+                         std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
+                         " cells (" + params.lattice + ")");
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   lbm_->enable_force_field();
   const double dx = lbm_->units().dx();
@@ -64,6 +70,13 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   n_plants_ = static_cast<int>(cfg.get_int("seaweed.plants"));
   const auto& lo = cfg.get_real_list("seaweed.placement.lo");
   const auto& hi = cfg.get_real_list("seaweed.placement.hi");
+  for (int d = 0; d < 3; ++d)
+    if (!(lo[d] >= 0 && lo[d] < hi[d] && hi[d] <= L[d]))
+      cfg.fail("seaweed.placement.lo",
+               fmt::format("and seaweed.placement.hi = [{}, {}, {}] do not give a box inside the "
+                           "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
+                           "with lo < hi on every axis",
+                           hi[0], hi[1], hi[2], L[0], L[1], L[2]));
   auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
                                cfg.get_real("seaweed.placement.min_spacing"));
   auto mpar = mp::MechanicsParams::from_config(cfg);
@@ -145,29 +158,18 @@ void SeaweedScenario::open_csv() {
   }
   const std::string path = ctx_.output_dir + "/seaweed_clusters.csv";
   const std::string header = "time,clusters,largest,largest_share,contacts,broken_joints,joints";
-  std::vector<std::string> keep;
-  if (step_ > 0) {
-    std::ifstream in(path);
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.empty() || line == header) continue;
-      if (std::stod(line.substr(0, line.find(','))) <= time() + 0.5 * dt_) keep.push_back(line);
-    }
-  }
-  std::filesystem::create_directories(ctx_.output_dir);
-  csv_.open(path, std::ios::trunc);
-  csv_ << header << "\n";
-  for (const auto& l : keep) csv_ << l << "\n";
-  csv_ << std::flush;
+  if (step_ > 0)
+    csv_.resume(path, header, time() + 0.5 * dt_);
+  else
+    csv_.start(path, header);
   if (step_ == 0) record_metrics();
 }
 
 void SeaweedScenario::record_metrics() {
   last_ = bodies_->clusters();
   if (decomp_->rank() == 0)
-    csv_ << fmt::format("{:.9f},{},{},{:.6f},{},{},{}\n", time(), last_.clusters, last_.largest,
-                        last_.largest_share, last_.contacts, last_.broken_joints, last_.joints)
-         << std::flush;
+    csv_.row(fmt::format("{:.9f},{},{},{:.6f},{},{},{}", time(), last_.clusters, last_.largest,
+                         last_.largest_share, last_.contacts, last_.broken_joints, last_.joints));
 }
 
 void SeaweedScenario::step() {

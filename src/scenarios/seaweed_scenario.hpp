@@ -10,6 +10,7 @@
 #include "coupling/trilinear_coupling.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/halo_exchange.hpp"
+#include "io/csv_series.hpp"
 #include "models/plants/seaweed_mechanics.hpp"
 #include "particles/particle_comm.hpp"
 #include "scenarios/scenario.hpp"
@@ -64,7 +65,7 @@ class SeaweedScenario : public Scenario {
   int n_plants_ = 0;
   long long step_ = 0;
   models::plants::ClusterMetrics last_{};
-  std::ofstream csv_;
+  io::CsvSeries csv_;
   bool csv_started_ = false;
   double t_lbm_[3] = {0, 0, 0};
 };

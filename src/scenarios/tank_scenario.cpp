@@ -14,7 +14,14 @@ void TankScenario::declare_config(core::ConfigSchema& schema) {
 
 TankScenario::TankScenario(const RunContext& ctx) : ctx_(ctx) {
   auto params = solvers::lbm::LbmParams::from_config(ctx.config);
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic());
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
+      grid::GridKeys{ctx.config.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  core::check_memory(ctx.comm, ctx.config,
+                     solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
+                     "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
+                         std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
+                         " cells (" + params.lattice + ")");
   lbm_ = std::make_unique<solvers::lbm::LbmSolver>(*decomp_, params);
   if (decomp_->rank() == 0)
     fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "grid/halo_exchange.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
@@ -16,9 +17,9 @@ namespace biota::scenarios {
 using solvers::mac::BoundaryType;
 
 void WindScenario::declare_config(core::ConfigSchema& s) {
-  s.add_int("wind.nx", 80, 1, std::nullopt, "cells along x (the wind direction)");
-  s.add_int("wind.ny", 40, 1, std::nullopt, "cells along y (crosswind)");
-  s.add_int("wind.nz", 40, 1, std::nullopt, "cells along z (vertical)");
+  s.add_int("wind.nx", 80, 1, 100000, "cells along x (the wind direction)");
+  s.add_int("wind.ny", 40, 1, 100000, "cells along y (crosswind)");
+  s.add_int("wind.nz", 40, 1, 100000, "cells along z (vertical)");
   s.add_real("wind.dx", 0.4, 0.0, std::nullopt, "m", "cubic cell size", true);
   s.add_real("wind.viscosity", 1.5e-5, 0.0, std::nullopt, "m^2/s",
              "kinematic viscosity nu (air: 1.5e-5)");
@@ -136,9 +137,23 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   linalg::initialize(ctx.solver_options);
   std::array<bool, 3> periodic;
   for (int a = 0; a < 3; ++a) periodic[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
-  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, p.cells, periodic);
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx.comm, p.cells, periodic, core::Index3{0, 0, 0},
+      grid::GridKeys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}});
   grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts,
                          {"wind.nx", "wind.ny", "wind.nz"});
+  {
+    // MAC fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with 2 ghost layers, and
+    // the pressure solve (7-point matrix, multigrid hierarchy, Krylov vectors: ~300 B per cell).
+    const core::Index3 n = decomp_->local_cells();
+    const double cells = double(n.x + 4) * double(n.y + 4) * double(n.z + 4);
+    const double owned = double(n.x) * double(n.y) * double(n.z);
+    core::check_memory(
+        ctx.comm, ctx.config,
+        {{"fields", 16 * 8 * cells}, {"pressure solve", 300 * owned}, {"output", 8 * 8 * owned}},
+        "wind.nx x wind.ny x wind.nz = " + std::to_string(p.cells.x) + " x " +
+            std::to_string(p.cells.y) + " x " + std::to_string(p.cells.z) + " cells");
+  }
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
   mac_->project_initial();
   const auto st = mac_->next_dt();

@@ -15,15 +15,17 @@ enum class FbmSignal {
                 ///< 1
 };
 
-/// \brief One block of 2^levels samples of a zero-mean, unit-variance fluctuation for boid `id`.
+/// \brief Frames [b 2^levels, (b + 1) 2^levels) of the heading-noise series of boid `id`.
 ///
-/// kPath: the midpoint_fbm_1d path X minus its chord t X(1) (an fBm bridge), so every block starts
-/// and ends at 0, so consecutive blocks join continuously; each block is scaled to unit mean
-/// square (midpoint displacement is only approximately fBm, so no closed-form variance is exact).
-/// kIncrements: X(t_{i+1}) - X(t_i) scaled by 2^{levels H} (unit variance).
-/// Stream: midpoint_fbm_1d(seed, series_id = id * 2^20 + block), so a block depends only on
-/// (seed, id, block) and any rank can rebuild it after a migration.
-/// \throws std::invalid_argument unless 0 < H < 1, 1 <= levels <= 20 and block < 2^20.
+/// The series is one FbmSeries path per boid (seed, series id = boid id) over 2^40 frames, cut
+/// into blocks only for caching: consecutive blocks join into one fBm path (an earlier version
+/// drew an independent fBm bridge per block, reset to 0 every 2^levels frames, which removed all
+/// power below the block frequency). kPath: X(t), scaled so the RMS change over 2^levels frames is
+/// 1 (X(0) = 0; spectrum ~ 1/f^(2H+1) over the whole run). kIncrements: X(t + 1) - X(t) scaled to
+/// unit variance (spectrum ~ 1/f^(2H-1)). Depends only on (seed, id, frame): any rank can rebuild
+/// it after a migration or a restart.
+/// \throws std::invalid_argument unless 0 < H < 1, 1 <= levels <= 20 and the block lies within
+/// the 2^40-frame horizon.
 std::vector<double> heading_noise_block(int levels, double hurst, FbmSignal signal,
                                         std::uint64_t seed, std::uint64_t id, std::uint64_t block);
 

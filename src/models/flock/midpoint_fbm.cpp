@@ -32,6 +32,61 @@ std::vector<double> midpoint_fbm_1d(int levels, double hurst, double sigma, std:
   return x;
 }
 
+FbmSeries::FbmSeries(double hurst, double sigma, std::uint64_t seed, std::uint64_t series_id,
+                     int horizon_levels)
+    : hurst_(hurst),
+      sigma_(sigma),
+      factor_(std::sqrt(1.0 - std::pow(2.0, 2.0 * hurst - 2.0))),
+      seed_(seed),
+      id_(series_id),
+      horizon_(horizon_levels) {
+  if (!(hurst > 0 && hurst < 1) || horizon_levels < 1 || horizon_levels > 62)
+    throw std::invalid_argument("FbmSeries: need 0 < H < 1 and 1 <= horizon_levels <= 62");
+}
+
+double FbmSeries::draw(std::uint64_t t) const {
+  return core::Rng(seed_, id_, t, core::RngPurpose::kFbmSeries).normal();
+}
+
+double FbmSeries::delta(int stage) const {
+  return sigma_ * factor_ * std::pow(2.0, -hurst_ * stage);  // eq. 5.1, standard form
+}
+
+std::vector<double> FbmSeries::block(int levels, std::uint64_t b) const {
+  if (levels < 0 || levels > horizon_ || b >= (std::uint64_t{1} << (horizon_ - levels)))
+    throw std::invalid_argument("FbmSeries::block: block beyond the horizon");
+  // Descend from [0, 2^horizon] to the block's interval, creating only the midpoints on the way.
+  std::uint64_t lo = 0, hi = std::uint64_t{1} << horizon_;
+  double x_lo = 0.0, x_hi = sigma_ * draw(hi);
+  const std::uint64_t left = b << levels;
+  for (int stage = 1; stage <= horizon_ - levels; ++stage) {
+    const std::uint64_t mid = lo + (hi - lo) / 2;
+    const double x_mid = 0.5 * (x_lo + x_hi) + delta(stage) * draw(mid);
+    if (left >= mid)
+      lo = mid, x_lo = x_mid;
+    else
+      hi = mid, x_hi = x_mid;
+  }
+  // Refine inside the block: the same stages as midpoint_fbm_1d, node draws by position.
+  const std::size_t n = std::size_t{1} << levels;
+  std::vector<double> x(n + 1);
+  x[0] = x_lo;
+  x[n] = x_hi;
+  std::size_t step = n;
+  for (int stage = horizon_ - levels + 1; stage <= horizon_; ++stage) {
+    const std::size_t half = step / 2;
+    for (std::size_t i = half; i < n; i += step)
+      x[i] = 0.5 * (x[i - half] + x[i + half]) + delta(stage) * draw(lo + i);
+    step = half;
+  }
+  return x;
+}
+
+double FbmSeries::at(std::uint64_t t) const {
+  if (t == (std::uint64_t{1} << horizon_)) return block(0, t - 1)[1];
+  return block(0, t)[0];
+}
+
 namespace {
 // Variance of Σ w_k X(p_k) for weights summing to zero, from the fBm variogram
 // V(r) = σ² r^(2H): Var = -1/2 Σ_kl w_k w_l V(|p_k - p_l|).

@@ -24,6 +24,38 @@ namespace biota::models::flock {
 std::vector<double> midpoint_fbm_1d(int levels, double hurst, double sigma, std::uint64_t seed,
                                     std::uint64_t series_id);
 
+/// \brief One 1D fBm path over a long horizon, t = 0 .. 2^horizon_levels (integer frames), by the
+/// same midpoint displacement as midpoint_fbm_1d, evaluated lazily block by block.
+///
+/// The midpoint created at stage n is at an integer position t (odd multiple of 2^(horizon - n))
+/// and its normal draw comes from core::Rng(seed, series_id, t, RngPurpose::kFbmSeries), so any
+/// block can be built alone, on any rank, in O(horizon + 2^levels) draws, and consecutive blocks
+/// are pieces of one path: no reset at block ends, so the spectrum ~ 1/f^(2H+1) holds over the
+/// whole horizon (2^40 frames, more than run.steps allows), not only within a block.
+/// X(0) = 0 and Var[X(t + s) - X(t)] ≈ sigma^2 (s / 2^horizon)^(2H). Shared by the flock's heading
+/// noise and any model that needs a long 1/f-type series (keep the interface small).
+class FbmSeries {
+ public:
+  static constexpr int kHorizonLevels = 40;
+  /// \throws std::invalid_argument unless 0 < H < 1 and 1 <= horizon_levels <= 62.
+  FbmSeries(double hurst, double sigma, std::uint64_t seed, std::uint64_t series_id,
+            int horizon_levels = kHorizonLevels);
+  /// \brief X(b 2^levels) .. X((b + 1) 2^levels): 2^levels + 1 samples of block b.
+  /// \throws std::invalid_argument if the block is beyond the horizon or levels > horizon.
+  std::vector<double> block(int levels, std::uint64_t b) const;
+  /// \brief X(t) for one frame (a block of one interval).
+  double at(std::uint64_t t) const;
+  int horizon_levels() const { return horizon_; }
+  double hurst() const { return hurst_; }
+
+ private:
+  double draw(std::uint64_t t) const;  // the standard normal of node t
+  double delta(int stage) const;       // displacement standard deviation at stage n (eq. 5.1)
+  double hurst_, sigma_, factor_;
+  std::uint64_t seed_, id_;
+  int horizon_;
+};
+
 /// \brief 2D fBm surface on a (2^levels + 1)² square grid by diamond-square midpoint displacement
 /// (after Peitgen & Saupe MidPointFM2D, spec 2.6 "2D midpoint displacement (5.2)").
 ///

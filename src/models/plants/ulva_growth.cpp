@@ -11,7 +11,7 @@
 namespace biota::models::plants {
 
 void GrowthParams::declare_config(core::ConfigSchema& s) {
-  s.add_int("growth.seed", 1, 0, std::nullopt, "seed of every growth random stream");
+  s.add_int("growth.seed", 1, 0, 1'000'000'000'000'000'000, "seed of every growth random stream");
   s.add_int("growth.cycles", 5, 0, 20, "growth cycles p_max (paper Table 1 'step size sigma' = 5)");
   s.add_real("growth.p_grow", 0.8, 0.0, 1.0, "-", "P_I: probability a growth unit makes a metamer");
   s.add_int("growth.initial_branches", 10, 0, 63, "growth units created from each seed");

@@ -27,6 +27,47 @@ int face_index(const core::Config& cfg, const std::string& key) {
   cfg.fail(key, "is not a face");
 }
 
+// True if a cell centre ((i + 1/2) dx, (j + 1/2) dx) of an n0 x n1 face lies at a distance in
+// [r_min, r_max] from (c0, c1): one interval test per row, so O(n1) even on a huge face.
+bool ring_selects_a_cell(int n0, int n1, double dx, double c0, double c1, double r_min,
+                         double r_max) {
+  for (int j = 0; j < n1; ++j) {
+    const double dy2 = ((j + 0.5) * dx - c1) * ((j + 0.5) * dx - c1);
+    if (dy2 > r_max * r_max) continue;
+    const double hi = std::sqrt(r_max * r_max - dy2);
+    const double lo = r_min * r_min > dy2 ? std::sqrt(r_min * r_min - dy2) : 0.0;
+    for (const double sign : {1.0, -1.0}) {  // a - c0 in [lo, hi] or in [-hi, -lo]
+      const double a_lo = sign > 0 ? c0 + lo : c0 - hi, a_hi = sign > 0 ? c0 + hi : c0 - lo;
+      const double first = std::max(0.0, std::ceil(a_lo / dx - 0.5));
+      if (first < n0 && (first + 0.5) * dx <= a_hi) return true;
+    }
+  }
+  return false;
+}
+
+// The inlet disc and the outlet annulus must lie on their face and select at least one cell: an
+// inlet centred outside the tank was accepted and the run went on without a jet.
+void check_face_patch(const core::Config& cfg, const LbmParams& p, int face,
+                      const std::string& prefix, const double center[2], double r_min, double r_max,
+                      const std::string& radius_keys) {
+  if (face < 0) return;
+  const int axis = face / 2;
+  const int t0 = axis == 0 ? 1 : 0, t1 = axis == 2 ? 1 : 2;
+  const char* names = "xyz";
+  const double l0 = p.cells[t0] * p.dx, l1 = p.cells[t1] * p.dx;
+  const std::string face_text = fmt::format(
+      "the {} face spans {} in [0, {}] m and {} in [0, {}] m (lbm.n{}, lbm.n{} x lbm.dx)",
+      kFaceNames[face], names[t0], l0, names[t1], l1, names[t0], names[t1]);
+  if (!(center[0] >= 0 && center[0] <= l0 && center[1] >= 0 && center[1] <= l1))
+    cfg.fail(prefix + ".center", "lies outside the face: " + face_text);
+  if (r_min > r_max)
+    cfg.fail(prefix + ".r_min", fmt::format("exceeds {}.r_max = {}", prefix, r_max));
+  if (!ring_selects_a_cell(p.cells[t0], p.cells[t1], p.dx, center[0], center[1], r_min, r_max))
+    cfg.fail(prefix + ".center",
+             fmt::format("with {} selects no cell centre ({} m apart) of the face; {}", radius_keys,
+                         p.dx, face_text));
+}
+
 template <class L>
 void copy_lattice(std::vector<std::array<int, 3>>& c, std::vector<double>& w,
                   std::vector<int>& opp) {
@@ -165,6 +206,20 @@ void LbmSolver::declare_config(core::ConfigSchema& s) {
   s.add_real("lbm.outlet.r_max", 1e9, 0.0, std::nullopt, "m", "annulus outer radius");
 }
 
+std::vector<core::MemoryItem> LbmSolver::memory_estimate(const grid::Decomposition& decomp,
+                                                         const LbmParams& params) {
+  const Index3 n = decomp.local_cells();
+  const double cells = double(n.x + 2) * double(n.y + 2) * double(n.z + 2);  // one ghost layer
+  const double surface = 2.0 * (double(n.x) * n.y + double(n.y) * n.z + double(n.x) * n.z);
+  const double nq = params.lattice == "D3Q19" ? 19 : 15;
+  // One population buffer (in-place AA streaming); force 3, rho 1, u 3 reals; a solid byte; about
+  // nq/3 links of 40 bytes per wall cell; an output step holds about 8 reals per owned cell.
+  return {{"populations", nq * 8 * cells},
+          {"fields", 7 * 8 * cells + cells},
+          {"boundary links", surface * nq / 3 * 40},
+          {"output", 8 * 8 * double(n.x) * n.y * n.z}};
+}
+
 LbmParams LbmParams::from_config(const core::Config& cfg) {
   LbmParams p;
   p.lattice = cfg.get_string("lbm.lattice");
@@ -211,6 +266,11 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   p.outlet.r_max = cfg.get_real("lbm.outlet.r_max");
   if (p.outlet.face >= 0 && p.faces[p.outlet.face] == FaceType::kPeriodic)
     cfg.fail("lbm.outlet.face", "lies on a periodic face");
+  check_face_patch(cfg, p, p.inlet.face, "lbm.inlet", p.inlet.center, 0.0, p.inlet.radius,
+                   fmt::format("lbm.inlet.radius = {}", p.inlet.radius));
+  check_face_patch(
+      cfg, p, p.outlet.face, "lbm.outlet", p.outlet.center, p.outlet.r_min, p.outlet.r_max,
+      fmt::format("lbm.outlet.r_min = {}, lbm.outlet.r_max = {}", p.outlet.r_min, p.outlet.r_max));
   p.max_mach = cfg.get_real("lbm.max_mach");
   p.reference_velocity = cfg.has("lbm.reference_velocity")
                              ? cfg.get_real("lbm.reference_velocity")

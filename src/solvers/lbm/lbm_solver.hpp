@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "core/memory.hpp"
 #include "core/types.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
@@ -86,6 +87,10 @@ class LbmSolver {
  public:
   /// \brief Declare every `lbm.*` key.
   static void declare_config(core::ConfigSchema& schema);
+  /// \brief Bytes this rank will allocate for `params` on `decomp` (for core::check_memory):
+  /// populations, macroscopic fields, solid flags and boundary links, output arrays.
+  static std::vector<core::MemoryItem> memory_estimate(const grid::Decomposition& decomp,
+                                                       const LbmParams& params);
 
   LbmSolver(const grid::Decomposition& decomp, const LbmParams& params);
   ~LbmSolver();

@@ -22,7 +22,19 @@ nz = 8
 tau = 0.6
 """
 
-# (name, deck text or None for a missing file, extra args, substring the message must contain)
+FLOCK = """scenario = "flock"
+[run]
+steps = 2
+[output]
+dir = "{out}"
+[checkpoint]
+dir = "{out}/ckpt"
+[flock.sandpile]
+size = 4
+"""
+
+# (name, deck text or None for a missing file, extra args, substring the message must contain
+#  [, MPI ranks, default 2])
 CASES = [
     ("syntax error", 'scenario = "tank"\n[run\nsteps = 2\n', [], "syntax"),
     ("unknown key", GOOD + "typo_key = 3\n", [], "typo_key"),
@@ -48,11 +60,31 @@ CASES = [
     ("missing restart file", GOOD, ["--restart", "/nonexistent/ckpt.h5"], "ckpt.h5"),
     ("list of wrong length", GOOD + '[lbm.inlet]\ncenter = [0.5]\n', [], "lbm.inlet.center"),
     ("out-of-range pulse", GOOD + '[lbm.inlet]\npulse_amplitude = 2.0\n', [], "lbm.inlet.pulse_amplitude"),
+    # Issue 8: one line, once, naming the grid keys and the rank count (was one line per rank).
+    ("fewer cells than ranks", GOOD.replace("nx = 8\nny = 8\nnz = 8", "nx = 2\nny = 2\nnz = 2"), [],
+     "lbm.nx, lbm.ny, lbm.nz = 2 x 2 x 2 cells cannot be split over 3 MPI ranks", 3),
+    # Issue 8: an interval of 2^32 became 0 in an int (SIGFPE); every integer key has a range now.
+    ("interval overflow", FLOCK, ["--set", "flock.stats_interval=4294967296"], "flock.stats_interval"),
+    # Issue 8: geometric keys that select no cell or lie outside the domain (0.08 m tank here).
+    ("inlet outside the tank", GOOD + '[lbm.inlet]\nface = "z_lo"\ncenter = [5.0, 5.0]\nradius = 0.02\nspeed = 0.01\n',
+     [], "lbm.inlet.center = [5, 5] lies outside the face"),
+    ("inlet selecting no cell", GOOD + '[lbm.inlet]\nface = "z_lo"\ncenter = [0.04, 0.04]\nradius = 0.001\nspeed = 0.01\n',
+     [], "lbm.inlet.center"),
+    ("outlet ring selecting no cell", GOOD + '[lbm.outlet]\nface = "z_lo"\ncenter = [0.04, 0.04]\nr_min = 0.5\n',
+     [], "lbm.outlet.center"),
+    ("placement box outside", GOOD.replace('"tank"', '"seaweed"').replace("tau = 0.6", "tau = 0.6\ndt = 0.0016666666666666668"),
+     ["--set", "seaweed.placement.hi=[0.5, 0.06, 0.06]", "--set", "seaweed.plants=1"], "seaweed.placement.lo"),
+    ("predator start outside", FLOCK, ["--set", "flock.predator.start=[500, 5, 5]"], "flock.predator.start"),
+    # Issue 8: a grid too large for the machine: one line, needed vs available (was bad_alloc).
+    ("grid too large", GOOD, ["--set", "lbm.nx=100000", "--set", "lbm.ny=100000", "--set", "lbm.nz=100000"],
+     "lbm.nx x lbm.ny x lbm.nz = 100000 x 100000 x 100000 cells (D3Q15) need about"),
+    ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
+     "run.progress_interval"),
 ]
 
 failures = 0
 with tempfile.TemporaryDirectory() as tmp:
-    for i, (name, text, extra, needle) in enumerate(CASES):
+    for i, (name, text, extra, needle, *np) in enumerate(CASES):
         out = os.path.join(tmp, f"out{i}")
         deck = os.path.join(tmp, f"deck{i}.toml")
         if text is not None:
@@ -60,11 +92,12 @@ with tempfile.TemporaryDirectory() as tmp:
                 f.write(text.replace("{out}", out))
         else:
             deck = os.path.join(tmp, "does_not_exist.toml")
-        cmd = [MPIEXEC, "-n", "2", BIOTA, "run", deck] + extra
+        cmd = [MPIEXEC, "-n", str(np[0] if np else 2), BIOTA, "run", deck] + extra
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
         err_lines = [l for l in p.stderr.splitlines() if l.startswith("biota: error:")]
         ok = p.returncode == 2 and len(err_lines) == 1 and needle in err_lines[0] \
-            and not os.path.exists(os.path.join(out, "tank.pvd"))
+            and not os.path.exists(os.path.join(out, "tank.pvd")) \
+            and not os.path.exists(os.path.join(out, "flock_order.csv"))
         print(f"{'ok  ' if ok else 'FAIL'} {name:24s} exit={p.returncode} {err_lines[0] if err_lines else p.stderr.strip()[-300:]}")
         failures += not ok
 print(f"{len(CASES) - failures}/{len(CASES)} bad decks rejected correctly")

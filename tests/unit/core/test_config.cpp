@@ -9,7 +9,7 @@ namespace {
 ConfigSchema make_schema() {
   ConfigSchema s;
   s.add_real("lbm.tau", 0.6, 0.5, 2.0, "-", "relaxation time", true);
-  s.add_int("run.steps", std::nullopt, 0, std::nullopt, "number of steps");
+  s.add_int("run.steps", std::nullopt, 0, 1'000'000'000'000, "number of steps");
   s.add_string("lbm.lattice", "D3Q19", {"D3Q15", "D3Q19"}, "lattice");
   s.add_bool("coupling.two_way", true, "two-way coupling");
   s.add_real_list("jet.center", std::vector<double>{0.5, 0.5}, 2, "m", "jet centre");
@@ -66,4 +66,24 @@ TEST(Config, ReferenceListsEveryKey) {
   auto md = make_schema().reference_markdown();
   for (const char* k : {"lbm.tau", "run.steps", "lbm.lattice", "coupling.two_way", "jet.center"})
     EXPECT_NE(md.find(k), std::string::npos);
+}
+
+TEST(Config, IntegerKeysNeedARange) {
+  // An integer without an upper bound overflowed to 0 in an `int` interval (SIGFPE): the schema
+  // refuses such a declaration.
+  ConfigSchema s;
+  KeySpec open;
+  open.type = ConfigType::kInt;
+  open.default_value = std::int64_t{5};
+  open.min = 1;
+  EXPECT_THROW(s.add("flock.stats_interval", open), std::logic_error);
+  open.max = 1e9;
+  EXPECT_NO_THROW(s.add("flock.stats_interval", open));
+}
+
+TEST(Config, IntegerBoundsAreExactAbove2To53) {
+  ConfigSchema s;
+  s.add_int("seed", 1, 0, 1'000'000'000'000'000'000, "seed");
+  EXPECT_NO_THROW(Config::from_string(s, "seed = 1000000000000000000\n", "deck.toml"));
+  EXPECT_THROW(Config::from_string(s, "seed = 1000000000000000001\n", "deck.toml"), InputError);
 }

@@ -2,12 +2,14 @@
 /// \brief Midpoint-displacement fBm: stage variances (eq. 5.1), spectrum, increment scaling.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <numbers>
 #include <vector>
 
+#include "models/flock/boid_noise.hpp"
 #include "models/flock/midpoint_fbm.hpp"
 
 using biota::models::flock::midpoint_fbm_1d;
@@ -57,11 +59,12 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 // logarithmic frequency bins over f in [2^-12, 2^-4] cycles per sample: away from the lowest
 // frequencies (few modes, end-matching distortion) and from the highest (discreteness of the
 // finest stage).
-double periodogram_slope(double h, int levels, int series) {
+template <class Gen>
+double periodogram_slope_of(Gen&& gen, int levels, int series, std::size_t k_lo_shift = 12) {
   const std::size_t n = std::size_t{1} << levels;
   std::vector<double> power(n / 2 + 1, 0.0);
   for (int sid = 0; sid < series; ++sid) {
-    const auto x = midpoint_fbm_1d(levels, h, 1.0, 99, static_cast<std::uint64_t>(sid));
+    const std::vector<double> x = gen(static_cast<std::uint64_t>(sid));
     std::vector<std::complex<double>> a(n);
     for (std::size_t i = 0; i < n; ++i)
       a[i] = x[i] - (x[0] + (x[n] - x[0]) * static_cast<double>(i) / static_cast<double>(n));
@@ -69,7 +72,7 @@ double periodogram_slope(double h, int levels, int series) {
     for (std::size_t k = 1; k <= n / 2; ++k) power[k] += std::norm(a[k]);
   }
   std::vector<double> lf, lp;
-  const std::size_t k_lo = n >> 12, k_hi = n >> 4;
+  const std::size_t k_lo = std::max<std::size_t>(n >> k_lo_shift, 1), k_hi = n >> 4;
   for (std::size_t k0 = k_lo; k0 < k_hi; k0 *= 2) {  // 4 bins per octave
     for (int q = 0; q < 4; ++q) {
       const auto a = static_cast<std::size_t>(k0 * std::pow(2.0, q / 4.0));
@@ -81,6 +84,24 @@ double periodogram_slope(double h, int levels, int series) {
     }
   }
   return slope(lf, lp);
+}
+
+double periodogram_slope(double h, int levels, int series) {
+  return periodogram_slope_of(
+      [&](std::uint64_t sid) { return midpoint_fbm_1d(levels, h, 1.0, 99, sid); }, levels, series);
+}
+
+// The heading noise of one boid over a whole run of 2^levels frames, as the scenario reads it:
+// block after block of 2^block_levels frames (plus the first frame of the next block).
+std::vector<double> heading_series(double h, int levels, int block_levels, std::uint64_t id) {
+  using namespace biota::models::flock;
+  std::vector<double> x;
+  for (std::uint64_t b = 0; x.size() <= (std::size_t{1} << levels); ++b) {
+    const auto blk = heading_noise_block(block_levels, h, FbmSignal::kPath, 99, id, b);
+    x.insert(x.end(), blk.begin(), blk.end());
+  }
+  x.resize((std::size_t{1} << levels) + 1);
+  return x;
 }
 
 }  // namespace
@@ -199,4 +220,32 @@ TEST(MidpointFbm, DeterministicPerSeedAndId) {
   EXPECT_EQ(x[0], 0.0);
   EXPECT_EQ(midpoint_fbm_2d(4, 0.5, 1.0, 1, 2).size(), 17u * 17u);
   EXPECT_THROW(midpoint_fbm_1d(8, 1.0, 1.0, 1, 2), std::invalid_argument);
+}
+
+TEST(FbmSeries, HeadingNoiseSpectrumHoldsOverTheWholeRun) {
+  // Issue 8: the heading noise was an fBm bridge reset every 2^levels frames, so the run's
+  // spectrum was flat below the block frequency. Now blocks are pieces of one path: over a run of
+  // 2^16 frames read in blocks of 2^8, the periodogram slope over f in [8/N, 1/16] (down to 8
+  // cycles per run, 32x below the block frequency) is -(2H + 1). 16 boids, tolerance ±0.15 as
+  // for midpoint_fbm_1d above.
+  for (double h : {0.2, 0.5}) {
+    const double s = periodogram_slope_of(
+        [&](std::uint64_t id) { return heading_series(h, 16, 8, id); }, 16, 16, 13);
+    std::printf(
+        "[ fbm ] heading noise H=%.1f, 2^16 frames in blocks of 2^8: slope %.4f, "
+        "expected %.4f\n",
+        h, s, -(2 * h + 1));
+    EXPECT_NEAR(s, -(2 * h + 1), 0.15) << "H = " << h;
+  }
+}
+
+TEST(FbmSeries, BlocksAreRandomAccessAndRankIndependent) {
+  using biota::models::flock::FbmSeries;
+  const FbmSeries a(0.3, 1.0, 5, 42, 20), b(0.3, 1.0, 5, 42, 20);
+  const auto fine = a.block(10, 7);    // frames 7168 .. 8192
+  const auto coarse = b.block(12, 1);  // frames 4096 .. 8192: contains block (10, 7)
+  for (std::size_t i = 0; i < fine.size(); ++i) EXPECT_EQ(fine[i], coarse[3072 + i]);
+  EXPECT_EQ(a.at(0), 0.0);
+  EXPECT_EQ(a.at(8192), coarse.back());
+  EXPECT_THROW(a.block(10, 1024), std::invalid_argument);  // beyond 2^20
 }
