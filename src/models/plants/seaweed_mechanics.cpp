@@ -120,11 +120,16 @@ SeaweedBodies::SeaweedBodies(particles::ParticleComm& comm, MechanicsParams para
 }
 
 namespace {
-core::Quat get_q(const ParticleSet& s, int a, std::size_t i) {
-  return {s.real(a, 0)[i], s.real(a, 1)[i], s.real(a, 2)[i], s.real(a, 3)[i]};
-}
 void set_q(ParticleSet& s, int a, std::size_t i, const core::Quat& q) {
   s.real(a, 0)[i] = q.w, s.real(a, 1)[i] = q.x, s.real(a, 2)[i] = q.y, s.real(a, 3)[i] = q.z;
+}
+/// The three columns of a 3-component attribute, read without the set's indirections.
+struct Col3 {
+  const Real *c0, *c1, *c2;
+  Vec3 at(std::size_t i) const { return {c0[i], c1[i], c2[i]}; }
+};
+Col3 cols3(const ParticleSet& s, int a) {
+  return {s.real(a, 0), s.real(a, 1), s.real(a, 2)};
 }
 }  // namespace
 
@@ -200,13 +205,17 @@ void SeaweedBodies::begin_step() {
   }
 }
 
-bool SeaweedBodies::max_displacement_exceeded() const {
+bool SeaweedBodies::local_displacement_exceeded() const {
   Real m2 = 0;
   for (std::size_t i = 0; i < set_.n_owned() && i < x_build_.size(); ++i) {
     const Vec3 d = set_.pos(i) - x_build_[i];
     m2 = std::max(m2, core::dot(d, d));
   }
-  int flag = m2 > 0.25 * p_.skin * p_.skin;
+  return m2 > 0.25 * p_.skin * p_.skin;
+}
+
+bool SeaweedBodies::max_displacement_exceeded() const {
+  int flag = local_displacement_exceeded();
   MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm());
   return flag != 0;
 }
@@ -305,43 +314,65 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const Real area = std::numbers::pi * p_.radius * p_.radius;
   const Vec3 weight{0, 0,
                     (p_.water_density - p_.plant_density) * V * p_.gravity};  // eq. 9 + gravity
+  // Column pointers hoisted out of the loops (the accessors go through two indirections each);
+  // the arithmetic is the same expression for expression, so the results are bitwise unchanged.
+  const ParticleSet& cs = set_;
+  const Col3 x = cols3(cs, ParticleSet::kPos), v = cols3(cs, a_vel), w = cols3(cs, a_omega),
+             ac = cols3(cs, a_anchor_c), ap = cols3(cs, a_anchor_p), uf = cols3(cs, a_uf);
+  Real *fx = set_.real(a_force, 0), *fy = set_.real(a_force, 1), *fz = set_.real(a_force, 2);
+  Real *tx = set_.real(a_torque, 0), *ty = set_.real(a_torque, 1), *tz = set_.real(a_torque, 2);
+  Real *ix = set_.real(a_imp, 0), *iy = set_.real(a_imp, 1), *iz = set_.real(a_imp, 2);
+  const GlobalId* ids = cs.u64(ParticleSet::kId);
+  const Real *qw = set_.real(a_quat, 0), *qx = set_.real(a_quat, 1), *qy = set_.real(a_quat, 2),
+             *qz = set_.real(a_quat, 3);
+  const Real *rw = set_.real(a_qrest, 0), *rx = set_.real(a_qrest, 1), *ry = set_.real(a_qrest, 2),
+             *rz = set_.real(a_qrest, 3);
+  const Real* rad = set_.real(a_radius);
+  const std::uint64_t* parent = set_.u64(u_parent);
+  Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
   // Interaction results: [joints..., contacts...], force and torque on each of the two spheres.
+  // Every entry is written below (inactive ones with active = false), so no clearing pass.
   const std::size_t nj = joints_.size(), ni = nj + pairs_.size();
-  res_.assign(ni, {});
+  res_.resize(ni);
   // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data.
   for (std::size_t m = 0; m < nj; ++m) {
     const auto [i, j] = joints_[m];
-    if (set_.u64(u_parent)[i] != set_.id(j)) continue;  // broken since the list was built
-    const core::Quat qc = get_q(set_, a_quat, i), qp = get_q(set_, a_quat, j);
-    const Vec3 rc = qc.rotate(set_.vec3(a_anchor_c, i)), rp = qp.rotate(set_.vec3(a_anchor_p, i));
-    const Vec3 wc = set_.vec3(a_omega, i), wp = set_.vec3(a_omega, j);
-    const Vec3 vc = set_.vec3(a_vel, i) + core::cross(wc, rc);
-    const Vec3 vp = set_.vec3(a_vel, j) + core::cross(wp, rp);
-    const Vec3 gap = (set_.pos(j) + rp) - (set_.pos(i) + rc);
+    if (parent[i] != ids[j]) {  // broken since the list was built
+      res_[m].active = false;
+      continue;
+    }
+    const core::Quat qc{qw[i], qx[i], qy[i], qz[i]}, qp{qw[j], qx[j], qy[j], qz[j]};
+    const Vec3 rc = qc.rotate(ac.at(i)), rp = qp.rotate(ap.at(i));
+    const Vec3 wc = w.at(i), wp = w.at(j);
+    const Vec3 vc = v.at(i) + core::cross(wc, rc);
+    const Vec3 vp = v.at(j) + core::cross(wp, rp);
+    const Vec3 gap = (x.at(j) + rp) - (x.at(i) + rc);
     const Vec3 F = gap * p_.joint_k + (vp - vc) * p_.joint_c;  // on the child
     // 3-DOF rotational spring-damper on the relative rotation q_p^* q_c against its rest value.
-    const core::Quat rel = qp.conj() * qc * get_q(set_, a_qrest, i).conj();
+    const core::Quat rel = qp.conj() * qc * core::Quat{rw[i], rx[i], ry[i], rz[i]}.conj();
     const Vec3 theta = qp.rotate(rel.rotation_vector());
     const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
     res_[m] = {F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T, true};
     if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
       const Real fm = core::norm(F), tm = core::norm(T);
-      set_.real(a_jforce)[i] = fm;
-      set_.real(a_jtorque)[i] = tm;
+      jforce[i] = fm;
+      jtorque[i] = tm;
       if (fm > p_.force_limit || tm > p_.torque_limit) broken_now_.push_back(i);
     }
   }
   // Contacts.
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
-    const Vec3 d = set_.pos(i) - set_.pos(j);
-    const Real dist = core::norm(d), ri = set_.real(a_radius)[i], rj = set_.real(a_radius)[j];
+    const Vec3 d = x.at(i) - x.at(j);
+    const Real dist = core::norm(d), ri = rad[i], rj = rad[j];
     const Real overlap = ri + rj - dist;
-    if (overlap <= 0 || dist <= 0) continue;
+    if (overlap <= 0 || dist <= 0) {
+      res_[nj + m].active = false;
+      continue;
+    }
     const Vec3 n = d / dist;
-    const Vec3 wi = set_.vec3(a_omega, i), wj = set_.vec3(a_omega, j);
-    const Vec3 vrel = (set_.vec3(a_vel, i) + core::cross(wi, n * (-ri))) -
-                      (set_.vec3(a_vel, j) + core::cross(wj, n * rj));
+    const Vec3 wi = w.at(i), wj = w.at(j);
+    const Vec3 vrel = (v.at(i) + core::cross(wi, n * (-ri))) - (v.at(j) + core::cross(wj, n * rj));
     const Real vn = core::dot(vrel, n);
     const Real fn = std::max(0.0, p_.contact_k * overlap - p_.contact_c * vn);
     const Vec3 vt = vrel - n * vn;
@@ -353,20 +384,28 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   }
   // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
   // order.
+  bool periodic[3];
+  Real wall_lo[3], wall_hi[3];
+  for (int d = 0; d < 3; ++d) {
+    periodic[d] = comm_.decomposition().periodic(d);
+    wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
+    wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
+  }
   for (std::size_t i = 0; i < no; ++i) {
-    const Vec3 rel = set_.vec3(a_uf, i) - set_.vec3(a_vel, i);
+    const Vec3 xi = x.at(i), vi = v.at(i);
+    const Vec3 rel = uf.at(i) - vi;
     const Vec3 drag = rel * (0.5 * p_.drag_cd * p_.water_density * area * core::norm(rel));
     Vec3 f = weight + drag, t{};
-    set_.add_vec3(a_imp, i, drag * dt_sub);
+    const Vec3 imp = drag * dt_sub;
+    ix[i] += imp[0], iy[i] += imp[1], iz[i] += imp[2];
     // Tank walls: the same contact spring as sphere-sphere contacts.
-    const Vec3 x = set_.pos(i), v = set_.vec3(a_vel, i);
     for (int d = 0; d < 3; ++d) {
-      if (comm_.decomposition().periodic(d)) continue;
-      const Real lo = comm_.domain_lo()[d] + p_.radius - x[d];
-      const Real hi = x[d] - (comm_.domain_hi()[d] - p_.radius);
+      if (periodic[d]) continue;
+      const Real lo = wall_lo[d] - xi[d];
+      const Real hi = xi[d] - wall_hi[d];
       Vec3 fw{};
-      if (lo > 0) fw[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * v[d]);
-      if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * v[d]);
+      if (lo > 0) fw[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * vi[d]);
+      if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * vi[d]);
       if (lo > 0 || hi > 0) f = f + fw;
     }
     for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
@@ -375,8 +414,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       f = f + (adj_[k].second == 0 ? r.f0 : r.f1);
       t = t + (adj_[k].second == 0 ? r.t0 : r.t1);
     }
-    set_.set_vec3(a_force, i, f);
-    set_.set_vec3(a_torque, i, t);
+    fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
+    tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
   }
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
   for (std::size_t i : broken_now_) {
@@ -392,22 +431,36 @@ void SeaweedBodies::advance(Real dt) {
   set_.zero_real(a_imp);
   for (int s = 0; s < ns; ++s) {
     if (s > 0) {
-      if (max_displacement_exceeded()) {  // skin used up inside the step: new ghosts and lists
+      // The skin check's reduction runs while the ghosts are refreshed (one synchronisation per
+      // sub-step instead of two). A rebuild replaces the ghosts from owned data, so the refresh
+      // it makes redundant changes nothing.
+      int flag = local_displacement_exceeded();
+      MPI_Request req;
+      MPI_Iallreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm(), &req);
+      comm_.update_ghosts(set_);
+      MPI_Wait(&req, MPI_STATUS_IGNORE);
+      if (flag != 0) {  // skin used up inside the step: new ghosts and lists
         rebuild_lists();
         need_migrate_ = true;
-      } else {
-        comm_.update_ghosts(set_);
       }
     }
     compute_forces(h);
     // Symplectic Euler: velocities first, then positions with the new velocities.
+    const Col3 f = cols3(set_, a_force), t = cols3(set_, a_torque);
+    Real *vx = set_.real(a_vel, 0), *vy = set_.real(a_vel, 1), *vz = set_.real(a_vel, 2);
+    Real *wx = set_.real(a_omega, 0), *wy = set_.real(a_omega, 1), *wz = set_.real(a_omega, 2);
+    Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
+         *pz = set_.real(ParticleSet::kPos, 2);
+    Real *qw = set_.real(a_quat, 0), *qx = set_.real(a_quat, 1), *qy = set_.real(a_quat, 2),
+         *qz = set_.real(a_quat, 3);
     for (std::size_t i = 0; i < set_.n_owned(); ++i) {
-      const Vec3 v = set_.vec3(a_vel, i) + set_.vec3(a_force, i) * (h / m);
-      const Vec3 w = set_.vec3(a_omega, i) + set_.vec3(a_torque, i) * (h / I);
-      set_.set_vec3(a_vel, i, v);
-      set_.set_vec3(a_omega, i, w);
-      set_.set_pos(i, set_.pos(i) + v * h);
-      set_q(set_, a_quat, i, get_q(set_, a_quat, i).integrated(w, h));
+      const Vec3 v = Vec3{vx[i], vy[i], vz[i]} + f.at(i) * (h / m);
+      const Vec3 w = Vec3{wx[i], wy[i], wz[i]} + t.at(i) * (h / I);
+      vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
+      wx[i] = w.x, wy[i] = w.y, wz[i] = w.z;
+      px[i] = px[i] + v.x * h, py[i] = py[i] + v.y * h, pz[i] = pz[i] + v.z * h;
+      const core::Quat q = core::Quat{qw[i], qx[i], qy[i], qz[i]}.integrated(w, h);
+      qw[i] = q.w, qx[i] = q.x, qy[i] = q.y, qz[i] = q.z;
     }
   }
   comm_.update_ghosts(set_);  // ghosts carry the step's final state and drag impulse

@@ -103,7 +103,8 @@ class SeaweedBodies {
   };
   void compute_forces(Real dt_sub);
   void rebuild_lists();
-  bool max_displacement_exceeded() const;
+  bool max_displacement_exceeded() const;    // collective
+  bool local_displacement_exceeded() const;  // this rank's owned spheres only
   std::size_t find_near(GlobalId id, const Vec3& near) const;
 
   particles::ParticleComm& comm_;
