@@ -556,12 +556,23 @@ void FlockScenario::step() {
                                       first, n, x, v, v2, R2, fov_cos_, c2, accepted_.data() + cnt,
                                       mask_.data());
         });
+        // The sums of accumulate_neighbour() in the same order (bitwise), without the nearest
+        // neighbour, which kAverage does not use.
+        const double dstar2 = dstar * dstar;
+        const double *VX = svx_.data(), *VY = svy_.data(), *VZ = svz_.data();
+        const std::uint64_t* acc_slots = accepted_.data();  // locals: no reloads through `this`
         for (std::size_t a = 0; a < cnt; ++a) {
-          const std::size_t j = accepted_[a];
+          const std::size_t j = acc_slots[a];
           const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
-          mf::accumulate_neighbour(s, d, core::dot(d, d), {svx_[j], svy_[j], svz_[j]}, ids[j],
-                                   dstar);
+          const double r2 = core::dot(d, d);
+          if (r2 < dstar2) {
+            const double r = std::sqrt(r2);
+            s.separation -= d * ((dstar - r) / r);
+          }
+          s.velocity += Vec3{VX[j], VY[j], VZ[j]};
+          s.position += d;
         }
+        s.count += static_cast<int>(cnt);
       } else {
         cells_.for_each_near(x, [&](std::size_t j) {
           const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};

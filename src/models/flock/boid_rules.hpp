@@ -9,10 +9,11 @@
 ///     aligned bins, which makes floating-point sums decomposition-invariant);
 ///  2. the rule accelerations (separation, alignment, cohesion, flee, chase, soft walls);
 ///  3. prioritized_sum() — Reynolds' prioritised acceleration allocation — then integrate().
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) || defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -168,6 +169,65 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
         _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(base + k)), lanes);
     _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
     cnt += static_cast<std::size_t>(__builtin_popcount(m));
+  }
+#elif defined(__AVX2__)
+  (void)scratch;
+  // 32-bit lane permutations that pack the selected 64-bit lanes of a 4-bit mask to the front.
+  static constexpr auto kPack = [] {
+    std::array<std::array<int, 8>, 16> t{};
+    for (int m = 0; m < 16; ++m) {
+      int o = 0;
+      for (int l = 0; l < 4; ++l)
+        if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
+      for (; o < 8; ++o) t[m][o] = 0;
+    }
+    return t;
+  }();
+  const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
+  const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
+  const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
+  const __m256d cv = _mm256_set1_pd(c2 * v2);
+  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
+  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
+  // Every candidate, the tail included, goes through the same 4-lane code with separate
+  // multiplies and adds (no FMA contraction), as in the AVX-512 path.
+  for (std::size_t k = 0; k < n; k += 4) {
+    const std::size_t left = n - k;
+    // Full vectors: plain loads (maskload is slow on AMD); the tail: masked loads, same values.
+    const bool full = left >= 4;
+    const __m256i tm =
+        full ? _mm256_set1_epi64x(-1)
+             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
+    const __m256d dx =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm), px);
+    const __m256d dy =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm), py);
+    const __m256d dz =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm), pz);
+    const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                     _mm256_mul_pd(dz, dz));
+    const auto* ep = reinterpret_cast<const long long*>(eligible + k);
+    const __m256i el = full ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ep))
+                            : _mm256_maskload_epi64(ep, tm);
+    __m256d m =
+        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
+    m = _mm256_and_pd(m, _mm256_castsi256_pd(_mm256_andnot_si256(
+                             _mm256_cmpeq_epi64(el, _mm256_setzero_si256()), tm)));
+    if (!all_round) {
+      const __m256d vd = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vx, dx), _mm256_mul_pd(vy, dy)),
+                                       _mm256_mul_pd(vz, dz));
+      const __m256d vd2 = _mm256_mul_pd(vd, vd), lim = _mm256_mul_pd(cv, r2);
+      const __m256d ahead = _mm256_cmp_pd(vd, zero, _CMP_GE_OQ);
+      m = _mm256_and_pd(m, narrow ? _mm256_and_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_GE_OQ))
+                                  : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ)));
+    }
+    const int bits = _mm256_movemask_pd(m);
+    const __m256i idx =
+        _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(base + k)), lanes);
+    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack[bits].data()));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
+                        _mm256_permutevar8x32_epi32(idx, perm));
+    cnt += static_cast<std::size_t>(__builtin_popcount(bits));
   }
 #else
   perceive_block(X, Y, Z, eligible, n, x, v, v2, radius2, fov_cos, c2, scratch);
