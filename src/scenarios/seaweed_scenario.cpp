@@ -71,11 +71,11 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& lo = cfg.get_real_list("seaweed.placement.lo");
   const auto& hi = cfg.get_real_list("seaweed.placement.hi");
   for (int d = 0; d < 3; ++d)
-    if (!(lo[d] >= 0 && lo[d] < hi[d] && hi[d] <= L[d]))
+    if (!(lo[d] >= 0 && lo[d] <= hi[d] && hi[d] <= L[d]))  // lo == hi: plant at a point
       cfg.fail("seaweed.placement.lo",
                fmt::format("and seaweed.placement.hi = [{}, {}, {}] do not give a box inside the "
                            "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
-                           "with lo < hi on every axis",
+                           "with lo <= hi on every axis",
                            hi[0], hi[1], hi[2], L[0], L[1], L[2]));
   auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
                                cfg.get_real("seaweed.placement.min_spacing"));

@@ -46,7 +46,10 @@ def errors(p):
 
 with tempfile.TemporaryDirectory() as tmp:
     def small(name, extra=()):
+        # The deck's jet and outlet sit at the centre of a 1 m tank: move them onto the small grid.
         return ["--set", "lbm.nx=16", "--set", "lbm.ny=16", "--set", "lbm.nz=12",
+                "--set", "lbm.inlet.center=[0.08, 0.08]", "--set", "lbm.inlet.radius=0.03",
+                "--set", "lbm.outlet.center=[0.08, 0.08]", "--set", "lbm.outlet.r_min=0.06",
                 "--set", f"output.dir={tmp}/{name}/out", "--set", f"checkpoint.dir={tmp}/{name}/ck",
                 "--set", "run.progress_interval=10", "--set", "run.health_interval=5",
                 "--set", "checkpoint.interval=10", "--set", "run.steps=20"] + list(extra)
