@@ -9,13 +9,7 @@
 #include "linalg/cell_multigrid.hpp"
 #include "linalg/petsc_environment.hpp"
 
-#define BIOTA_PETSC(call)                                                                  \
-  do {                                                                                     \
-    PetscErrorCode biota_ierr_ = (call);                                                   \
-    if (biota_ierr_)                                                                       \
-      throw std::runtime_error(std::string("PETSc error ") + std::to_string(biota_ierr_) + \
-                               " in " #call);                                              \
-  } while (0)
+#include "linalg/petsc_check.hpp"
 
 namespace biota::linalg {
 namespace {
