@@ -76,12 +76,14 @@ int main(int argc, char** argv) {
   if (rank == 0) {
     std::printf("scene %s: %zu triangles, %zu mosses, %lld photons/day, %d days, %d ranks\n",
                 scene.c_str(), mesh.triangles.size(), moss.size(), photons, days, size);
-    std::printf("photon-surface interactions per second per core: %.3g (peer: raw Embree "
-                "closest-hit rays/s on this scene, rank 0: %.3g; %lld of %d hit)\n",
-                double(stored) / size / trace_max, raw, hit, nray);
-    std::printf("per day: trace %.4f s, photon map (redistribute + ghosts + kd-tree + %zu queries)"
-                " %.4f s, wall %.4f s (slowest rank)\n",
-                trace_max / days, q.size(), map_max / days, wall / days);
+    std::printf(
+        "photon-surface interactions per second per core: %.3g (peer: raw Embree "
+        "closest-hit rays/s on this scene, rank 0: %.3g; %lld of %d hit)\n",
+        double(stored) / size / trace_max, raw, hit, nray);
+    std::printf(
+        "per day: trace %.4f s, photon map (redistribute + ghosts + kd-tree + %zu queries)"
+        " %.4f s, wall %.4f s (slowest rank)\n",
+        trace_max / days, q.size(), map_max / days, wall / days);
   }
   MPI_Finalize();
   return 0;

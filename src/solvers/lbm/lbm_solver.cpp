@@ -7,8 +7,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
 #include <limits>
+#include "core/error.hpp"
 
 #include "io/checkpoint.hpp"
 #include "solvers/lbm/aa_sweep.hpp"
