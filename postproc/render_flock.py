@@ -1,6 +1,6 @@
 """Render a snapshot of the flock (PNG) with ParaView, headless:
 
-    xvfb-run -a pvpython postproc/render_flock.py <output.dir> <out.png> [index]
+    postproc/headless.sh pvpython postproc/render_flock.py <output.dir> <out.png> [index]
 
 Reads <output.dir>/flock_boids.pvd (boids as spheres coloured by state: 0 grounded, 1 flying,
 2 fleeing after an avalanche, 3 predator) and, if present, <output.dir>/flock_sandpile.pvd (the

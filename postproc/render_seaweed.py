@@ -1,6 +1,6 @@
 """Render a snapshot of the seaweed plants and the flow (PNG) with ParaView, headless:
 
-    xvfb-run -a pvpython postproc/render_seaweed.py <output.dir> <out.png> [index]
+    postproc/headless.sh pvpython postproc/render_seaweed.py <output.dir> <out.png> [index]
 
 Reads <output.dir>/seaweed_particles.pvd (spheres as glyphs coloured by plant, joints as lines)
 and, if present, <output.dir>/seaweed.pvd (LBM fields; a vertical slice coloured by speed).

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Run a tiny tank on 2 ranks and open its output with ParaView's readers (pvpython under
-xvfb-run): XDMF (Xdmf3ReaderS) and the VTK series (PVDReader). Exit 77 (skipped) without ParaView.
+postproc/headless.sh, a private Xvfb): XDMF (Xdmf3ReaderS) and the VTK series (PVDReader). Exit 77 (skipped) without ParaView.
 Usage: run_paraview_check.py <biota> <mpiexec> <source dir>"""
 import os
 import shutil
@@ -9,8 +9,8 @@ import sys
 import tempfile
 
 BIOTA, MPIEXEC, SRC = sys.argv[1:4]
-if not shutil.which("pvpython") or not shutil.which("xvfb-run"):
-    print("SKIPPED: pvpython or xvfb-run not found (install paraview, xvfb, xauth)")
+if not shutil.which("pvpython") or not shutil.which("Xvfb"):
+    print("SKIPPED: pvpython or Xvfb not found (install paraview, xvfb, xauth)")
     sys.exit(77)
 
 with tempfile.TemporaryDirectory() as tmp:
@@ -26,7 +26,7 @@ with tempfile.TemporaryDirectory() as tmp:
         print(p.stdout[-2000:], p.stderr[-2000:])
         sys.exit(1)
     check = os.path.join(os.path.dirname(os.path.abspath(__file__)), "check_output.py")
-    p = subprocess.run(["xvfb-run", "-a", "pvpython", check, tmp, "24", "20", "18"],
+    p = subprocess.run([os.path.join(SRC, "postproc", "headless.sh"), "pvpython", check, tmp, "24", "20", "18"],
                        capture_output=True, text=True, timeout=240)
     print(p.stdout)
     print(p.stderr[-3000:])

@@ -1,9 +1,9 @@
 #!/bin/sh
 # Tiny seaweed run, then the ParaView render and the cluster plot. Skips (exit 77) without
-# ParaView/xvfb-run or matplotlib.
+# ParaView/Xvfb or matplotlib.
 set -e
 biota=$1; src=$2; work=$3
-command -v pvpython >/dev/null && command -v xvfb-run >/dev/null || { echo "SKIP: pvpython/xvfb-run not found"; exit 77; }
+command -v pvpython >/dev/null && command -v Xvfb >/dev/null || { echo "SKIP: pvpython/Xvfb not found"; exit 77; }
 /usr/bin/python3 -c "import matplotlib" 2>/dev/null || { echo "SKIP: python3-matplotlib not installed"; exit 77; }
 rm -rf "$work"; mkdir -p "$work"; cd "$work"
 for c in 1 2; do
@@ -15,7 +15,7 @@ for c in 1 2; do
     --set growth.env_radius=0.2 --set run.end_time=0.1 --set output.interval=3 \
     --set output.dir=c$c --set checkpoint.dir=c$c/ckpt
 done
-xvfb-run -a pvpython "$src/postproc/render_seaweed.py" c2 snapshot.png
+"$src/postproc/headless.sh" pvpython "$src/postproc/render_seaweed.py" c2 snapshot.png
 /usr/bin/python3 "$src/postproc/plot_clusters.py" clusters.png cycle1=c1 cycle2=c2
 test -s snapshot.png && test -s clusters.png
 echo OK
