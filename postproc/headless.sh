@@ -17,23 +17,57 @@ stop_server() {
 }
 trap 'stop_server; rm -rf "$tmp"' EXIT INT TERM
 
-display=
-for attempt in 1 2 3; do
-  : >"$tmp/display"
-  Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
-  xpid=$!
-  waited=0
-  while [ ! -s "$tmp/display" ] && kill -0 "$xpid" 2>/dev/null && [ $waited -lt 200 ]; do
-    sleep 0.05
-    waited=$((waited + 1))
+# Accepting connections is checked with a real client (XOpenDisplay through ctypes) before the
+# command runs; server start-up is serialised by a lock so concurrent renders cannot race for a
+# display number (seen: two servers reporting displays of which one refused connections).
+x_accepts() {
+  python3 -c "import ctypes,sys; x=ctypes.cdll.LoadLibrary('libX11.so.6'); x.XOpenDisplay.restype=ctypes.c_void_p; d=x.XOpenDisplay(sys.argv[1].encode()); sys.exit(0 if d else 1)" ":$1" 2>/dev/null
+}
+start_server() {
+  for attempt in 1 2 3; do
+    : >"$tmp/display"
+    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
+    xpid=$!
+    waited=0
+    while [ ! -s "$tmp/display" ] && kill -0 "$xpid" 2>/dev/null && [ $waited -lt 200 ]; do
+      sleep 0.05
+      waited=$((waited + 1))
+    done
+    display=$(head -n 1 "$tmp/display" 2>/dev/null)
+    [ -n "$display" ] && x_accepts "$display" && return 0
+    stop_server
+    display=
+    echo "headless.sh: Xvfb did not start (attempt $attempt): $(tail -n 1 "$tmp/xvfb.log")" >&2
+    sleep 1
   done
-  display=$(head -n 1 "$tmp/display" 2>/dev/null)
-  [ -n "$display" ] && break
-  stop_server
-  echo "headless.sh: Xvfb did not start (attempt $attempt): $(tail -n 1 "$tmp/xvfb.log")" >&2
-done
-[ -n "$display" ] || { echo "headless.sh: no X server after 3 attempts" >&2; exit 1; }
+  return 1
+}
 
-DISPLAY=":$display" "$@"
-status=$?
+run_once() {
+  display=
+  if command -v flock >/dev/null 2>&1; then
+    exec 9>"${TMPDIR:-/tmp}/biota-headless.lock"
+    flock -w 120 9
+    start_server
+    flock -u 9
+    exec 9>&-
+  else
+    start_server
+  fi
+  [ -n "$display" ] || { echo "headless.sh: no X server after 3 attempts" >&2; return 1; }
+  DISPLAY=":$display" "$@" 2>"$tmp/stderr"
+  status=$?
+  cat "$tmp/stderr" >&2
+  stop_server
+  return $status
+}
+
+# A render that still loses its X connection (VTK: "bad X server connection", SIGABRT) is run
+# again on a fresh server, at most three times in all.
+for run in 1 2 3; do
+  run_once "$@"
+  status=$?
+  grep -q "bad X server connection" "$tmp/stderr" 2>/dev/null || break
+  echo "headless.sh: the X connection was lost (run $run), starting a new server" >&2
+done
 exit $status
