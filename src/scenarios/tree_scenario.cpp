@@ -44,9 +44,9 @@ void TreeScenario::declare_config(core::ConfigSchema& s) {
              "random placement: least distance between roots");
   s.add_int("tree.species", 1, 1, kMaxSpecies, "number of species (tree.species1 .. 3)");
   for (int k = 0; k < kMaxSpecies; ++k) {
-    s.add_string(sp_key(k, "lsystem"), "lsystems/paper_fig1.lsys", {},
-                 fmt::format("L-system file of species {} (relative: to the deck's directory)",
-                             k + 1));
+    s.add_string(
+        sp_key(k, "lsystem"), "lsystems/paper_fig1.lsys", {},
+        fmt::format("L-system file of species {} (relative: to the deck's directory)", k + 1));
     s.add_real(sp_key(k, "height"), 6.67, 0.0, std::nullopt, "m",
                fmt::format("height of species {} (the turtle geometry is scaled to it)", k + 1),
                true);
@@ -71,6 +71,14 @@ void TreeScenario::declare_config(core::ConfigSchema& s) {
              "radii by the pipe model (false: the turtle widths scaled to radius_max)");
   s.add_bool("tree.two_way", true, "the trees push back on the wind (false: one-way coupling)");
   s.add_int("tree.substeps", 1, 1, 100000, "tree steps per wind.step_time");
+  s.add_bool("tree.contacts", false,
+             "branch collisions: links as capsules, penalty + friction (between trees and "
+             "between links of one tree that share no node)");
+  s.add_real("tree.contact_stiffness", 100.0, 0.0, std::nullopt, "N/m",
+             "penalty k_c per metre of capsule overlap", true);
+  s.add_real("tree.contact_friction", 0.5, 0.0, std::nullopt, "-", "Coulomb coefficient mu");
+  s.add_real("tree.contact_viscous", 10.0, 0.0, std::nullopt, "N s/m",
+             "tangential friction c_t |v_t| below the Coulomb limit");
   s.add_int("tree.csv_interval", 1, 1, 1'000'000'000, "scenario steps between trees.csv rows");
 }
 
@@ -147,18 +155,18 @@ TreeScenario::TreeScenario(const RunContext& ctx) : WindScenario(ctx) {
       sites_[t].base = {pos[3 * t], pos[3 * t + 1], pos[3 * t + 2]};
       for (int d = 0; d < 3; ++d)
         if (!(sites_[t].base[d] >= 0 && sites_[t].base[d] <= L[d]))
-          cfg.fail("tree.positions",
-                   fmt::format("tree {} stands at ({}, {}, {}), outside the wind box [0, {}] x "
-                               "[0, {}] x [0, {}] m",
-                               t, sites_[t].base.x, sites_[t].base.y, sites_[t].base.z, L.x, L.y,
-                               L.z));
+          cfg.fail(
+              "tree.positions",
+              fmt::format("tree {} stands at ({}, {}, {}), outside the wind box [0, {}] x "
+                          "[0, {}] x [0, {}] m",
+                          t, sites_[t].base.x, sites_[t].base.y, sites_[t].base.z, L.x, L.y, L.z));
     }
   }
   const auto& sof = cfg.get_real_list("tree.species_of");
   if (!sof.empty() && sof.size() != static_cast<std::size_t>(n))
-    cfg.fail("tree.species_of",
-             fmt::format("has {} entries; give one per tree (tree.count = {}) or none", sof.size(),
-                         n));
+    cfg.fail(
+        "tree.species_of",
+        fmt::format("has {} entries; give one per tree (tree.count = {}) or none", sof.size(), n));
   const auto& hts = cfg.get_real_list("tree.heights");
   if (!hts.empty() && hts.size() != static_cast<std::size_t>(n))
     cfg.fail("tree.heights", fmt::format("has {} entries; give one per tree (tree.count = {}) or "
@@ -188,8 +196,8 @@ TreeScenario::TreeScenario(const RunContext& ctx) : WindScenario(ctx) {
     try {
       trees_.push_back(mp::build_tree(species[s.species], s, p, max_modules));
     } catch (const std::invalid_argument& e) {
-      throw core::InputError(fmt::format("{}: {} ({})", cfg.source(), e.what(),
-                                         sp_key(s.species, "lsystem")));
+      throw core::InputError(
+          fmt::format("{}: {} ({})", cfg.source(), e.what(), sp_key(s.species, "lsystem")));
     }
     owned_.push_back(s);
     const auto& t = trees_.back();
@@ -201,11 +209,47 @@ TreeScenario::TreeScenario(const RunContext& ctx) : WindScenario(ctx) {
     nodes += static_cast<long long>(t.size());
   }
   MPI_Allreduce(MPI_IN_PLACE, &nodes, 1, MPI_LONG_LONG, MPI_SUM, ctx.comm);
+  contacts_ = cfg.get_bool("tree.contacts");
+  contact_.stiffness = cfg.get_real("tree.contact_stiffness");
+  contact_.friction = cfg.get_real("tree.contact_friction");
+  contact_.viscous = cfg.get_real("tree.contact_viscous");
+  if (contacts_) {
+    // Explicit penalty: omega dt = sqrt(k_c / m_min) dt must stay well inside the stable range.
+    double m_min = 1e300;
+    for (const auto& t : trees_)
+      for (std::size_t k = 0; k < t.size(); ++k)
+        if (t.parents()[k] >= 0) m_min = std::min(m_min, t.masses()[k]);
+    MPI_Allreduce(MPI_IN_PLACE, &m_min, 1, MPI_DOUBLE, MPI_MIN, ctx.comm);
+    const double wdt = std::sqrt(contact_.stiffness / m_min) * step_time_ / substeps_;
+    if (wdt > 1.5)
+      cfg.fail("tree.contact_stiffness",
+               fmt::format("gives sqrt(k_c / m_min) dt = {:.3g} > 1.5 with the lightest node of "
+                           "{:.3g} kg and dt = wind.step_time / tree.substeps = {:.3g} s: the "
+                           "explicit contact is unstable (lower it or raise tree.substeps)",
+                           wdt, m_min, step_time_ / substeps_));
+    for (std::size_t t = 0; t < trees_.size(); ++t) {
+      const auto& tr = trees_[t];
+      std::vector<mp::Capsule> caps;
+      for (std::size_t k = 0; k < tr.size(); ++k)
+        if (const std::int64_t j = tr.parents()[k]; j >= 0)
+          caps.push_back({tr.positions()[j],
+                          tr.positions()[k],
+                          {},
+                          {},
+                          tr.radii()[k],
+                          owned_[t].id,
+                          j,
+                          static_cast<std::int64_t>(k)});
+      const auto pairs = mp::overlapping_pairs(caps);
+      grown_together_.emplace_back(pairs.begin(), pairs.end());
+    }
+  }
   if (decomp_->rank() == 0)
-    fmt::print("tree: {} trees of {} species, {} nodes, {} tree steps of {:.6g} s per wind step, "
-               "coupling {}\n",
-               sites_.size(), nspecies, nodes, substeps_, step_time_ / substeps_,
-               two_way_ ? "two-way" : "one-way");
+    fmt::print(
+        "tree: {} trees of {} species, {} nodes, {} tree steps of {:.6g} s per wind step, "
+        "coupling {}\n",
+        sites_.size(), nspecies, nodes, substeps_, step_time_ / substeps_,
+        two_way_ ? "two-way" : "one-way");
 }
 
 void TreeScenario::step() {
@@ -228,6 +272,11 @@ void TreeScenario::step() {
     wind = samples_->interpolate(*transfer_, mac_->velocity(), ids, at);
   }
   std::vector<Vec3> force(ids.size());
+  std::vector<std::vector<Vec3>> extra;
+  if (contacts_) {
+    auto scope = ctx_.timers.scope("contacts");
+    contact_forces(extra);
+  }
   {
     auto scope = ctx_.timers.scope("trees");
     const double dt = step_time_ / substeps_;
@@ -242,7 +291,7 @@ void TreeScenario::step() {
       auto& acc = fw_[t];
       std::fill(acc.begin(), acc.end(), Vec3{});
       for (int s = 0; s < substeps_; ++s) {
-        tree.step(dt, w, &f);
+        tree.step(dt, w, &f, contacts_ ? &extra[t] : nullptr);
         for (std::size_t k = 0; k < tree.size(); ++k) acc[k] += f[k];
       }
       m = m0;
@@ -263,6 +312,73 @@ void TreeScenario::step() {
   }
   WindScenario::step();
   if (step_ % csv_every_ == 0) record_csv();
+}
+
+void TreeScenario::contact_forces(std::vector<std::vector<Vec3>>& extra) {
+  constexpr int kw = 16;  // tree, node, parent, a, b, va, vb, radius
+  std::vector<double> mine;
+  for (std::size_t t = 0; t < trees_.size(); ++t) {
+    const auto& tr = trees_[t];
+    for (std::size_t k = 0; k < tr.size(); ++k) {
+      const std::int64_t j = tr.parents()[k];
+      if (j < 0) continue;
+      const Vec3 a = tr.positions()[j], b = tr.positions()[k], va = tr.velocities()[j],
+                 vb = tr.velocities()[k];
+      mine.insert(mine.end(), {static_cast<double>(owned_[t].id), static_cast<double>(k),
+                               static_cast<double>(j), a.x, a.y, a.z, b.x, b.y, b.z, va.x, va.y,
+                               va.z, vb.x, vb.y, vb.z, tr.radii()[k]});
+    }
+  }
+  const int size = decomp_->size();
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size), displs(size);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
+  int total = 0;
+  for (int r = 0; r < size; ++r) displs[r] = total, total += counts[r];
+  std::vector<double> buf(total);
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, buf.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, ctx_.comm);
+  // The same list, in (tree, node) order, on every rank.
+  const std::size_t n = static_cast<std::size_t>(total / kw);
+  std::vector<std::size_t> order(n);
+  for (std::size_t q = 0; q < n; ++q) order[q] = q;
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return std::pair(buf[x * kw], buf[x * kw + 1]) < std::pair(buf[y * kw], buf[y * kw + 1]);
+  });
+  std::vector<mp::Capsule> all(n);
+  std::map<std::uint64_t, std::size_t> index;
+  for (std::size_t t = 0; t < owned_.size(); ++t) index[owned_[t].id] = t;
+  std::vector<std::size_t> my;
+  for (std::size_t q = 0; q < n; ++q) {
+    const double* v = &buf[order[q] * kw];
+    auto& c = all[q];
+    c.tree = static_cast<std::uint64_t>(v[0]);
+    c.node_b = static_cast<std::int64_t>(v[1]);
+    c.node_a = static_cast<std::int64_t>(v[2]);
+    c.a = {v[3], v[4], v[5]};
+    c.b = {v[6], v[7], v[8]};
+    c.va = {v[9], v[10], v[11]};
+    c.vb = {v[12], v[13], v[14]};
+    c.radius = v[15];
+    if (index.count(c.tree)) my.push_back(q);
+  }
+  std::vector<Vec3> fa, fb;
+  auto skip = [&](const mp::Capsule& a, const mp::Capsule& b) {
+    if (a.tree != b.tree) return false;
+    const auto& g = grown_together_[index.at(a.tree)];
+    return g.count({std::min(a.node_b, b.node_b), std::max(a.node_b, b.node_b)}) != 0;
+  };
+  last_contacts_ = mp::capsule_forces(all, my, contact_, fa, fb, skip);
+  extra.assign(trees_.size(), {});
+  for (std::size_t t = 0; t < trees_.size(); ++t) extra[t].assign(trees_[t].size(), {});
+  for (std::size_t m = 0; m < my.size(); ++m) {
+    const auto& c = all[my[m]];
+    auto& e = extra[index[c.tree]];
+    e[c.node_a] += fa[m];  // a fixed root ignores it
+    e[c.node_b] += fb[m];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &last_contacts_, 1, MPI_LONG_LONG, MPI_SUM, ctx_.comm);
+  last_contacts_ /= 2;  // each contact seen from both capsules
 }
 
 double TreeScenario::tip_displacement(std::size_t t) const {
@@ -301,10 +417,10 @@ void TreeScenario::record_csv() {
   for (std::size_t t = 0; t < trees_.size(); ++t) {
     Vec3 fw;
     for (const Vec3& f : fw_[t]) fw += f;
-    mine.insert(mine.end(), {static_cast<double>(owned_[t].id),
-                             static_cast<double>(owned_[t].species + 1), tip_displacement(t),
-                             trees_[t].max_displacement(), trees_[t].max_bending_angle(), fw.x,
-                             fw.y, fw.z});
+    mine.insert(mine.end(),
+                {static_cast<double>(owned_[t].id), static_cast<double>(owned_[t].species + 1),
+                 tip_displacement(t), trees_[t].max_displacement(), trees_[t].max_bending_angle(),
+                 fw.x, fw.y, fw.z});
   }
   int count = static_cast<int>(mine.size()), size = decomp_->size();
   std::vector<int> counts(size), displs(size);
@@ -312,8 +428,8 @@ void TreeScenario::record_csv() {
   int total = 0;
   for (int r = 0; r < size; ++r) displs[r] = total, total += counts[r];
   std::vector<double> all(decomp_->rank() == 0 ? total : 0);
-  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-              MPI_DOUBLE, 0, ctx_.comm);
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+              0, ctx_.comm);
   if (decomp_->rank() != 0) return;
   std::map<long long, const double*> rows;
   for (int r = 0; r < total / kw; ++r) rows[static_cast<long long>(all[r * kw])] = &all[r * kw];
@@ -345,9 +461,8 @@ void TreeScenario::write_output() {
     }
   }
   d.owned = d.ids.size();
-  d.scalars = {{"radius", std::move(radius)},
-               {"tree", std::move(tree)},
-               {"displacement", std::move(disp)}};
+  d.scalars = {
+      {"radius", std::move(radius)}, {"tree", std::move(tree)}, {"displacement", std::move(disp)}};
   d.vectors = {{"velocity", std::move(vel)}};
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "tree_nodes", step_, time(),
                          ctx_.config.effective_toml());
@@ -360,8 +475,8 @@ void TreeScenario::write_extra(io::CheckpointWriter& w) {
   for (std::size_t t = 0; t < trees_.size(); ++t)
     for (std::size_t k = 0; k < trees_[t].size(); ++k) {
       const Vec3 x = trees_[t].positions()[k], v = trees_[t].velocities()[k];
-      rows.insert(rows.end(), {static_cast<double>(owned_[t].id), static_cast<double>(k), x.x,
-                               x.y, x.z, v.x, v.y, v.z});
+      rows.insert(rows.end(), {static_cast<double>(owned_[t].id), static_cast<double>(k), x.x, x.y,
+                               x.z, v.x, v.y, v.z});
     }
   w.write_rows("tree_nodes", rows, 8);
 }
@@ -386,9 +501,9 @@ void TreeScenario::read_extra(io::CheckpointReader& r) {
   std::size_t mine = 0;
   for (const auto& t : trees_) mine += t.size();
   if (restored != mine)
-    throw core::InputError(fmt::format(
-        "checkpoint tree_nodes: {} of this rank's {} nodes found (another stand?)", restored,
-        mine));
+    throw core::InputError(
+        fmt::format("checkpoint tree_nodes: {} of this rank's {} nodes found (another stand?)",
+                    restored, mine));
 }
 
 void TreeScenario::check_health() {
@@ -412,12 +527,13 @@ std::string TreeScenario::progress() {
   double tip = 0;
   for (std::size_t t = 0; t < trees_.size(); ++t) tip = std::max(tip, tip_displacement(t));
   MPI_Allreduce(MPI_IN_PLACE, &tip, 1, MPI_DOUBLE, MPI_MAX, ctx_.comm);
-  return WindScenario::progress() + fmt::format(" tip max {:.4g} m", tip);
+  std::string c = contacts_ ? fmt::format(" contacts {}", last_contacts_) : "";
+  return WindScenario::progress() + fmt::format(" tip max {:.4g} m", tip) + c;
 }
 
 std::vector<std::string> TreeScenario::timer_sections() const {
   auto s = WindScenario::timer_sections();
-  s.insert(s.begin(), {"trees", "coupling"});
+  s.insert(s.begin(), {"trees", "contacts", "coupling"});
   return s;
 }
 

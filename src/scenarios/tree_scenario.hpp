@@ -15,11 +15,14 @@
 /// that wind, the reaction -K_b F_w (F_w averaged over the sub-steps) spread at the sampling
 /// points into the MAC body force (per unit mass: / (rho_air dx^3)), then the wind step.
 #include <memory>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "coupling/mac_coupling.hpp"
 #include "coupling/remote_samples.hpp"
 #include "io/csv_series.hpp"
+#include "models/plants/branch_contacts.hpp"
 #include "models/plants/tree_stand.hpp"
 #include "particles/particle_comm.hpp"
 #include "scenarios/wind_scenario.hpp"
@@ -50,6 +53,8 @@ class TreeScenario : public WindScenario {
   /// \brief Sum over every node of every tree of the wind force F_w (3) of the last step (N),
   /// averaged over its sub-steps. Collective.
   core::Vec3 total_wind_force() const;
+  /// \brief Branch contacts found in the last step (all ranks).
+  long long last_contacts() const { return last_contacts_; }
   /// \brief K_b (tree.k_branch), air density (kg/m^3) and cell size (m).
   double k_branch() const { return k_branch_; }
   double air_density() const { return air_density_; }
@@ -64,14 +69,22 @@ class TreeScenario : public WindScenario {
  private:
   void open_csv();
   void record_csv();
+  /// \brief Branch contact forces on the nodes of every owned tree (every rank sees every link:
+  /// one all-gather of the capsules per scenario step). Collective.
+  void contact_forces(std::vector<std::vector<core::Vec3>>& extra);
 
   std::unique_ptr<particles::ParticleComm> pcomm_;
   std::unique_ptr<coupling::MacCoupling> transfer_;
   std::unique_ptr<coupling::RemoteSamples> samples_;
   std::vector<models::plants::TreeSite> sites_, owned_;
   std::vector<models::plants::NodeLinkTree> trees_;
-  std::vector<std::size_t> tip_;                ///< highest node of each owned tree
-  std::vector<std::vector<core::Vec3>> fw_;     ///< last step's F_w per node, per owned tree
+  std::vector<std::size_t> tip_;             ///< highest node of each owned tree
+  std::vector<std::vector<core::Vec3>> fw_;  ///< last step's F_w per node, per owned tree
+  bool contacts_ = false;
+  /// Per owned tree: link pairs (node, node) overlapping in the rest shape (not collisions).
+  std::vector<std::set<std::pair<std::int64_t, std::int64_t>>> grown_together_;
+  models::plants::ContactParams contact_;
+  long long last_contacts_ = 0;
   double k_branch_ = 0.1;
   int substeps_ = 1;
   bool two_way_ = true;

@@ -29,8 +29,8 @@ NodeLinkTree build_tree(const TreeSpecies& sp, const TreeSite& site, const NodeL
   return NodeLinkTree(g, site.height / h, site.base, p);
 }
 
-std::vector<TreeSite> random_sites(std::uint64_t seed, int n, double lo_x, double lo_y,
-                                   double hi_x, double hi_y, double ground, double min_spacing,
+std::vector<TreeSite> random_sites(std::uint64_t seed, int n, double lo_x, double lo_y, double hi_x,
+                                   double hi_y, double ground, double min_spacing,
                                    const std::vector<TreeSpecies>& species) {
   const auto pts = place_seeds(seed, n, {lo_x, lo_y, ground}, {hi_x, hi_y, ground}, min_spacing);
   std::vector<TreeSite> sites(pts.size());

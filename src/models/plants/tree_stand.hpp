@@ -30,7 +30,9 @@ struct TreeSite {
 };
 
 /// \brief Global node id of node `k` of tree `tree` (ids are unique over the stand).
-inline std::uint64_t tree_node_id(std::uint64_t tree, std::uint64_t k) { return tree << 32 | k; }
+inline std::uint64_t tree_node_id(std::uint64_t tree, std::uint64_t k) {
+  return tree << 32 | k;
+}
 
 /// \brief The node-link tree of `site`: the species' L-system derived with (species seed, tree
 /// id), interpreted by the turtle, scaled to the site's height and turned from the turtle frame
@@ -42,8 +44,8 @@ NodeLinkTree build_tree(const TreeSpecies& sp, const TreeSite& site, const NodeL
 /// \brief Sites at random in the rectangle [lo, hi] (x, y) on the ground z = ground, at least
 /// min_spacing apart (place_seeds: Philox keyed by (seed, tree, attempt); after 1000 attempts a
 /// tree is accepted as drawn), species t mod n_species, the species' height.
-std::vector<TreeSite> random_sites(std::uint64_t seed, int n, double lo_x, double lo_y,
-                                   double hi_x, double hi_y, double ground, double min_spacing,
+std::vector<TreeSite> random_sites(std::uint64_t seed, int n, double lo_x, double lo_y, double hi_x,
+                                   double hi_y, double ground, double min_spacing,
                                    const std::vector<TreeSpecies>& species);
 
 }  // namespace biota::models::plants

@@ -10,10 +10,11 @@
 ///    PC jacobi, zero initial guess), whose every operation is local. The default CG + PFMG sums
 ///    in rank order and agrees only to ~1e-14 (docs/wind.md), and the trees with it.
 ///
-/// Two trees of the paper's rule (2 derivations, 3 m tall) straddle rank boundaries on 2 and 3
-/// ranks; one stands 0.1 m from the periodic y boundary (its branches have periodic images) and
-/// 1 m above the ground (no node within a cell of a wall, so no weight lands on a wall face).
-/// Run with 3 processes: the world is split into sub-communicators of 1, 2 and 3 ranks.
+/// Two trees of the paper's rule (2 derivations, 3 m tall, planar, 5 cm apart so that their
+/// crowns cross: branch contacts on) straddle rank boundaries on 2 and 3 ranks (and are owned by
+/// different ranks on 3); one stands 0.1 m from the periodic y boundary (its branches have periodic
+/// images) and 1 m above the ground (no node within a cell of a wall, so no weight lands on a wall
+/// face). Run with 3 processes: the world is split into sub-communicators of 1, 2 and 3 ranks.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -49,7 +50,8 @@ speed = 8.0
 const char* kTree = R"(
 [tree]
 count = 2
-positions = [2.7, 0.1, 1.0, 4.2, 2.0, 0.0]
+positions = [2.7, 0.1, 1.0, 3.05, 0.15, 1.0]
+contacts = true
 heights = [3.0, 3.0]
 gravity = [0.0, 0.0, 0.0]
 [tree.species1]
@@ -133,12 +135,16 @@ void run(int np, const std::string& restart, long long steps,
         EXPECT_NEAR(grid[c], -sc.k_branch() * fw[c], 1e-13 * core::norm(fw))
             << "component " << c << " step " << sc.step_index() << " on " << np << " ranks";
       if (np == 1 && sc.step_index() == 1 && world == 0)
-        std::printf("momentum, step 1: wind force on the nodes (%.9g, %.9g, %.9g) N, added to "
-                    "the wind (%.9g, %.9g, %.9g) N, K_b = %g\n",
-                    fw.x, fw.y, fw.z, grid.x, grid.y, grid.z, sc.k_branch());
+        std::printf(
+            "momentum, step 1: wind force on the nodes (%.9g, %.9g, %.9g) N, added to "
+            "the wind (%.9g, %.9g, %.9g) N, K_b = %g\n",
+            fw.x, fw.y, fw.z, grid.x, grid.y, grid.z, sc.k_branch());
       for (const auto& [s, path] : ckpt_at)
         if (s == sc.step_index()) sc.write_checkpoint(path);
     }
+    if (tip && world == 0)
+      std::printf("branch contacts in the last step: %lld\n", sc.last_contacts());
+    if (tip) EXPECT_GT(sc.last_contacts(), 0);  // the two trees touch
     if (tip) {
       double t = 0;
       for (std::size_t i = 0; i < sc.trees().size(); ++i) t = std::max(t, sc.tip_displacement(i));
@@ -212,9 +218,9 @@ TEST(TreeScenario, OneWayLeavesTheWindOfTheWindScenario) {
     else
       scenarios::WindScenario::declare_config(schema);
     const std::string deck = pass == 0 ? kDeck : std::string("scenario = \"wind\"\n") + kWind;
-    auto cfg = core::Config::from_string(schema, deck, g_dir + "/oneway.toml",
-                                         pass == 0 ? std::vector<std::string>{"tree.two_way=false"}
-                                                   : std::vector<std::string>{});
+    auto cfg = core::Config::from_string(
+        schema, deck, g_dir + "/oneway.toml",
+        pass == 0 ? std::vector<std::string>{"tree.two_way=false"} : std::vector<std::string>{});
     scenarios::RunContext ctx{MPI_COMM_WORLD, cfg, timers, g_dir + "/out_np3"};
     std::unique_ptr<scenarios::WindScenario> sc;
     if (pass == 0)
