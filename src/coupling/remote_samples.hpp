@@ -79,10 +79,14 @@ class RemoteSamples {
   }
   void load(const std::vector<core::GlobalId>& ids, const std::vector<core::Vec3>& at) {
     if (ids.size() != at.size()) throw std::invalid_argument("RemoteSamples: ids/at sizes");
-    set_.resize(0, 0);
+    set_.resize(0, 0);  // drop everything, then one resize (zeroed columns)
+    set_.resize(ids.size(), ids.size());
+    std::uint64_t* id = set_.u64(particles::ParticleSet::kId);
+    std::uint64_t* slot = set_.u64(u_slot_);
     for (std::size_t n = 0; n < ids.size(); ++n) {
-      const std::size_t i = set_.add_owned(ids[n], at[n]);
-      set_.u64(u_slot_)[i] = n;
+      id[n] = ids[n];
+      slot[n] = n;
+      set_.set_pos(n, at[n]);
     }
   }
 
