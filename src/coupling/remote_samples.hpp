@@ -7,7 +7,8 @@
 /// particles::ParticleSet to the rank whose box holds them (ParticleComm::redistribute), are
 /// interpolated or spread there with any transfer of the particle_transfer.hpp interface
 /// (TrilinearCoupling, MacCoupling), and interpolated values travel back to the owner the same
-/// way (the particle's position is swapped for the centre of the owner's box). Spreading uses
+/// way (the particle's position is swapped for the centre of the owner's box); points already in
+/// the owner's box are interpolated in place. Spreading uses
 /// coupling::spread_from_particles on the spatial owners' owned and ghost particles, so each
 /// cell sums the same terms in the same order on any rank count: bitwise rank-count independent
 /// like the rest of the coupling.
@@ -35,8 +36,25 @@ class RemoteSamples {
   std::vector<core::Vec3> interpolate(const Transfer& t, const grid::Field<core::Real>& field,
                                       const std::vector<core::GlobalId>& ids,
                                       const std::vector<core::Vec3>& at, core::Real scale = 1) {
-    load(ids, at);
-    const core::Vec3 home = 0.5 * (comm_.lo() + comm_.hi());
+    // Points inside this rank's box are interpolated here (a pure function of the point, so
+    // the same value as on any other rank); only the others travel.
+    std::vector<core::Vec3> out(ids.size());
+    std::vector<core::GlobalId> rid;
+    std::vector<core::Vec3> rat;
+    std::vector<std::size_t> rslot;
+    const core::Vec3 lo = comm_.lo(), hi = comm_.hi();
+    for (std::size_t n = 0; n < ids.size(); ++n) {
+      const core::Vec3& p = at[n];
+      if (p.x >= lo.x && p.x < hi.x && p.y >= lo.y && p.y < hi.y && p.z >= lo.z && p.z < hi.z) {
+        out[n] = t.interpolate_at(field, p) * scale;
+      } else {
+        rid.push_back(ids[n]);
+        rat.push_back(p);
+        rslot.push_back(n);
+      }
+    }
+    load(rid, rat);
+    const core::Vec3 home = 0.5 * (lo + hi);
     for (std::size_t i = 0; i < set_.n_owned(); ++i) set_.set_vec3(a_home_, i, home);
     comm_.redistribute(set_);  // to the rank whose box holds the point
     interpolate_to_particles(t, field, set_, particles::ParticleSet::kPos, a_value_, scale);
@@ -46,11 +64,10 @@ class RemoteSamples {
       set_.set_vec3(a_home_, i, p);
     }
     comm_.redistribute(set_);
-    if (set_.n_owned() != ids.size())
+    if (set_.n_owned() != rid.size())
       throw std::logic_error("RemoteSamples: points lost on the way back to their owner");
-    std::vector<core::Vec3> out(ids.size());
     for (std::size_t i = 0; i < set_.n_owned(); ++i)
-      out[set_.u64(u_slot_)[i]] = set_.vec3(a_value_, i);
+      out[rslot[set_.u64(u_slot_)[i]]] = set_.vec3(a_value_, i);
     return out;
   }
 
