@@ -70,6 +70,7 @@ const std::vector<std::string>& restart_may_change() {
       "checkpoint.*",
       "seaweed.metrics_interval",
       "flock.stats_interval",
+      "tree.csv_interval",
       "wind.poisson_options",
   };
   return keys;

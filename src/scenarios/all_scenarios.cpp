@@ -3,6 +3,7 @@
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
+#include "scenarios/tree_scenario.hpp"
 #include "scenarios/wind_scenario.hpp"
 
 namespace biota::scenarios {
@@ -28,6 +29,12 @@ std::vector<ScenarioInfo> all_scenarios() {
        &WindScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<WindScenario>(c);
+       }},
+      {"tree",
+       "L-system trees (node-link model) swaying in the MAC wind, two-way coupled (tree paper)",
+       &TreeScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<TreeScenario>(c);
        }},
       {"flock",
        "Boids taking off in chaos-game order, schooling, attacked by predators, breaking up in "

@@ -202,7 +202,7 @@ void WindScenario::write_output() {
 void WindScenario::write_checkpoint(const std::string& path) {
   auto scope = ctx_.timers.scope("checkpoint");
   io::CheckpointWriter w(*decomp_, path);
-  w.write_attribute("scenario", std::string("wind"));
+  w.write_attribute("scenario", checkpoint_name());
   w.write_attribute("config", ctx_.config.effective_toml());
   w.write_attribute("time", mac_->time());
   w.write_attribute("step", static_cast<std::int64_t>(step_));
@@ -210,13 +210,14 @@ void WindScenario::write_checkpoint(const std::string& path) {
   w.write_field("wind_velocity", mac_->velocity(), 0, 3);
   w.write_field("wind_pressure", mac_->pressure(), 0, 1);
   w.write_rows("wind_boundary_faces", mac_->boundary_face_rows(), 5);
+  write_extra(w);
   w.commit();
 }
 
 void WindScenario::read_checkpoint(const std::string& path) {
   io::CheckpointReader r(*decomp_, path);
-  if (r.read_attribute_string("scenario") != "wind")
-    throw core::InputError(path + ": not a wind checkpoint");
+  if (r.read_attribute_string("scenario") != checkpoint_name())
+    throw core::InputError(path + ": not a " + checkpoint_name() + " checkpoint");
   r.read_field("wind_velocity", mac_->velocity(), 0, 3);
   r.read_field("wind_pressure", mac_->pressure(), 0, 1);
   int ncols = 0;
@@ -224,6 +225,7 @@ void WindScenario::read_checkpoint(const std::string& path) {
   step_ = r.read_attribute_int("step");
   mac_->set_clock(r.read_attribute_real("time"), r.read_attribute_int("solver_step"));
   mac_->refresh();
+  read_extra(r);
 }
 
 void WindScenario::check_health() {

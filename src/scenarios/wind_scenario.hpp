@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "grid/decomposition.hpp"
+#include "io/checkpoint.hpp"
 #include "scenarios/scenario.hpp"
 #include "solvers/mac/mac_solver.hpp"
 
@@ -36,7 +37,13 @@ class WindScenario : public Scenario {
   solvers::mac::MacSolver& solver() { return *mac_; }
   core::CommCounter comm_sent() const override { return mac_->halo_sent(); }
 
- private:
+ protected:
+  /// \brief Name stored in (and required of) checkpoints: "wind" here.
+  virtual std::string checkpoint_name() const { return "wind"; }
+  /// \brief Extra state a derived scenario stores in / restores from the wind's checkpoint.
+  virtual void write_extra(io::CheckpointWriter&) {}
+  virtual void read_extra(io::CheckpointReader&) {}
+
   RunContext ctx_;
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::mac::MacSolver> mac_;

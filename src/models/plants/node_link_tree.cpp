@@ -115,7 +115,8 @@ void NodeLinkTree::init() {
   }
 }
 
-void NodeLinkTree::step(double dt, const std::vector<Vec3>& wind, std::vector<Vec3>* wind_force) {
+void NodeLinkTree::step(double dt, const std::vector<Vec3>& wind, std::vector<Vec3>* wind_force,
+                        const std::vector<Vec3>* extra) {
   const std::size_t n = pos_.size();
   std::fill(force_.begin(), force_.end(), Vec3{});
   if (wind_force) wind_force->assign(n, {});
@@ -133,6 +134,7 @@ void NodeLinkTree::step(double dt, const std::vector<Vec3>& wind, std::vector<Ve
     }
     const Vec3 fr = k_link_[k] * (b - link);  // (5), P' - P = b - (P_k - P_j)
     force_[k] += fw + fr + mass_[k] * p_.gravity;
+    if (extra) force_[k] += (*extra)[k];
     if (i >= 0) {  // (6): reaction on the parent j, perpendicular to P_i -> P_k
       const Vec3 ik = pos_[k] - pos_[i];
       const double lik = norm(ik), lij = norm(pos_[j] - pos_[i]);

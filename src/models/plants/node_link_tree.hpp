@@ -50,8 +50,10 @@ class NodeLinkTree {
                const NodeLinkParams& p);
 
   /// \brief One step of (3)-(11). `wind` holds the wind velocity at every node (roots ignored);
-  /// `wind_force` (optional, size n) receives F_w of every node for the two-way coupling.
-  void step(double dt, const std::vector<Vec3>& wind, std::vector<Vec3>* wind_force = nullptr);
+  /// `wind_force` (optional, size n) receives F_w of every node for the two-way coupling;
+  /// `extra` (optional, size n) is added to the force (7) of every node (branch contacts).
+  void step(double dt, const std::vector<Vec3>& wind, std::vector<Vec3>* wind_force = nullptr,
+            const std::vector<Vec3>* extra = nullptr);
 
   std::size_t size() const { return pos_.size(); }
   const std::vector<Vec3>& positions() const { return pos_; }

@@ -33,6 +33,25 @@ dir = "{out}/ckpt"
 size = 4
 """
 
+TREE = """scenario = "tree"
+[run]
+steps = 2
+[output]
+dir = "{out}"
+[checkpoint]
+dir = "{out}/ckpt"
+[wind]
+nx = 8
+ny = 4
+nz = 10
+dx = 1.0
+[tree]
+positions = [4.0, 2.0, 0.0]
+[tree.species1]
+lsystem = "{tmp}/paper_fig1.lsys"
+derivations = 2
+"""
+
 # (name, deck text or None for a missing file, extra args, substring the message must contain
 #  [, MPI ranks, default 2])
 CASES = [
@@ -78,18 +97,29 @@ CASES = [
     # Issue 8: a grid too large for the machine: one line, needed vs available (was bad_alloc).
     ("grid too large", GOOD, ["--set", "lbm.nx=100000", "--set", "lbm.ny=100000", "--set", "lbm.nz=100000"],
      "lbm.nx x lbm.ny x lbm.nz = 100000 x 100000 x 100000 cells (D3Q15) need about"),
+    # Issue 9: the tree scenario's placement, species and contact keys.
+    ("tree positions count", TREE, ["--set", "tree.count=2"], "tree.positions"),
+    ("tree outside the box", TREE.replace("[4.0, 2.0, 0.0]", "[40.0, 2.0, 0.0]"), [], "tree.positions"),
+    ("tree species out of range", TREE, ["--set", "tree.species_of=[2.0]"], "tree.species_of"),
+    ("tree taller than the box", TREE, ["--set", "tree.species1.height=20.0"], "tree.species1.height"),
+    ("unstable contact stiffness", TREE, ["--set", "tree.contacts=true", "--set",
+                                          "tree.contact_stiffness=1e6"], "tree.contact_stiffness"),
+    ("missing L-system file", TREE.replace("{tmp}/paper_fig1.lsys", "{tmp}/nope.lsys"), [],
+     "tree.species1.lsystem"),
     ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
      "run.progress_interval"),
 ]
 
 failures = 0
 with tempfile.TemporaryDirectory() as tmp:
+    with open(os.path.join(tmp, "paper_fig1.lsys"), "w") as f:
+        f.write("axiom: F\nangle: 20\nF -> F[+F]F[-F][F]\n")
     for i, (name, text, extra, needle, *np) in enumerate(CASES):
         out = os.path.join(tmp, f"out{i}")
         deck = os.path.join(tmp, f"deck{i}.toml")
         if text is not None:
             with open(deck, "w") as f:
-                f.write(text.replace("{out}", out))
+                f.write(text.replace("{out}", out).replace("{tmp}", tmp))
         else:
             deck = os.path.join(tmp, "does_not_exist.toml")
         cmd = [MPIEXEC, "-n", str(np[0] if np else 2), BIOTA, "run", deck] + extra
