@@ -13,6 +13,7 @@
 #include "core/agreement.hpp"
 #include "core/error.hpp"
 #include "core/timers.hpp"
+#include "io/output_layout.hpp"
 
 namespace biota::app {
 namespace {
@@ -124,6 +125,7 @@ void declare_common_config(core::ConfigSchema& s) {
   s.add_string("output.dir", "out", {}, "directory for HDF5/XDMF/VTK output");
   s.add_int("output.interval", 0, 0, 1'000'000'000'000,
             "steps between output steps (0: only the first and last step)");
+  io::declare_output_layout_config(s);
   s.add_string("checkpoint.dir", "out/checkpoints", {}, "directory for checkpoints");
   s.add_int("checkpoint.interval", 0, 0, 1'000'000'000'000,
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");

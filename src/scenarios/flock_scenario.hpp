@@ -22,6 +22,7 @@
 #include "models/flock/sandpile.hpp"
 #include "particles/ordered_cell_list.hpp"
 #include "particles/particle_comm.hpp"
+#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace biota::scenarios {
@@ -93,6 +94,7 @@ class FlockScenario : public Scenario {
   core::Vec3 min_image(core::Vec3 d) const;
 
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.chunk/compression of the sandpile lattice
   std::uint64_t seed_ = 0;
   double dt_ = 0.05;
   long long step_ = 0;

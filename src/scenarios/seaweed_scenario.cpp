@@ -46,6 +46,7 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
       grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
                          std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
@@ -228,7 +229,7 @@ void SeaweedScenario::write_output() {
   auto scope = ctx_.timers.scope("output");
   lbm_->update_macroscopic();
   io::OutputStep out(*decomp_, ctx_.output_dir, "seaweed", step_, time(), lbm_->units().dx(),
-                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa");
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa", out_layout_);
   add_lbm_fields(out, *lbm_);
   out.write();
   write_particles();

@@ -13,6 +13,7 @@
 #include "io/csv_series.hpp"
 #include "models/plants/seaweed_mechanics.hpp"
 #include "particles/particle_comm.hpp"
+#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
 
@@ -53,6 +54,7 @@ class SeaweedScenario : public Scenario {
   long long last_broken_total();
 
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the LBM fields
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::lbm::LbmSolver> lbm_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
