@@ -72,8 +72,7 @@ void ensure_group(hid_t file, const std::string& path) {
 
 void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                 const double* data, hid_t type, const std::vector<hsize_t>& chunk,
-                 int deflate) {
+                 const double* data, hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
   auto slash = name.rfind('/');
   if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
   const int rank = static_cast<int>(global.size());

@@ -91,11 +91,11 @@ OutputLayout output_layout(const core::Config& cfg, const core::Index3& cells, d
   l.stride = static_cast<int>(cfg.get_int("output.stride"));
   if (!cfg.has("output.region")) return l;
   const auto& b = cfg.get_real_list("output.region");
-  const std::string domain =
-      fmt::format("the domain is [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m ({} x {} "
-                  "x {} cells of {:.6g} m)",
-                  origin.x, origin.x + cells.x * dx, origin.y, origin.y + cells.y * dx, origin.z,
-                  origin.z + cells.z * dx, cells.x, cells.y, cells.z, dx);
+  const std::string domain = fmt::format(
+      "the domain is [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m ({} x {} "
+      "x {} cells of {:.6g} m)",
+      origin.x, origin.x + cells.x * dx, origin.y, origin.y + cells.y * dx, origin.z,
+      origin.z + cells.z * dx, cells.x, cells.y, cells.z, dx);
   for (int a = 0; a < 3; ++a)
     if (!(b[a] <= b[a + 3]))
       cfg.fail("output.region", fmt::format("is not a box: give [x_lo, y_lo, z_lo, x_hi, y_hi, "

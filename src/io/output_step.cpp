@@ -210,10 +210,14 @@ void OutputStep::write() {
     out << fmt::format("<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n",
                        n.z + 1, n.y + 1, n.x + 1);
     out << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
-                       origin.z, origin.y, origin.x);
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
-                       spacing, spacing, spacing);
+    out << fmt::format(
+        "<DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">{:.17g} "
+        "{:.17g} {:.17g}</DataItem>\n",
+        origin.z, origin.y, origin.x);
+    out << fmt::format(
+        "<DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">{:.17g} "
+        "{:.17g} {:.17g}</DataItem>\n",
+        spacing, spacing, spacing);
     out << "</Geometry>\n";
     for (const auto& [name, a] : arrays_) {
       out << xdmf_attribute(name, a.ncomp > 1, "Cell",

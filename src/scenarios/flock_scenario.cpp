@@ -132,8 +132,9 @@ FlockScenario::OwnedComm::~OwnedComm() {
 FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& c = ctx.config;
   out_layout_ = io::output_layout_whole(
-      c, "applies to grid fields (tank, seaweed, wind); the flock's only grid output, the "
-         "sandpile lattice, is written whole");
+      c,
+      "applies to grid fields (tank, seaweed, wind); the flock's only grid output, the "
+      "sandpile lattice, is written whole");
   seed_ = static_cast<std::uint64_t>(c.get_int("seed"));
   dt_ = c.get_real("flock.dt");
   stats_every_ = static_cast<int>(c.get_int("flock.stats_interval"));
@@ -732,8 +733,7 @@ void FlockScenario::write_output() {
         left.push_back(static_cast<double>(std::max(0LL, flee_until_[s] - step_)));
       }
   io::OutputStep lat(*lattice_, ctx_.output_dir, "flock_sandpile", step_, time(), 1.0, {0, 0, 0},
-                     ctx_.config.effective_toml(), "lattice units: one site per prey",
-                     out_layout_);
+                     ctx_.config.effective_toml(), "lattice units: one site per prey", out_layout_);
   lat.add_scalar("height", std::move(h), "grains");
   lat.add_scalar("flee_frames_left", std::move(left), "frames");
   lat.write();

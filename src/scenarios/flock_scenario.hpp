@@ -17,12 +17,12 @@
 
 #include "grid/decomposition.hpp"
 #include "io/csv_series.hpp"
+#include "io/output_layout.hpp"
 #include "models/flock/boid_noise.hpp"
 #include "models/flock/boid_rules.hpp"
 #include "models/flock/sandpile.hpp"
 #include "particles/ordered_cell_list.hpp"
 #include "particles/particle_comm.hpp"
-#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace biota::scenarios {

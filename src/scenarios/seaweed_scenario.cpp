@@ -229,7 +229,8 @@ void SeaweedScenario::write_output() {
   auto scope = ctx_.timers.scope("output");
   lbm_->update_macroscopic();
   io::OutputStep out(*decomp_, ctx_.output_dir, "seaweed", step_, time(), lbm_->units().dx(),
-                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa", out_layout_);
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa",
+                     out_layout_);
   add_lbm_fields(out, *lbm_);
   out.write();
   write_particles();

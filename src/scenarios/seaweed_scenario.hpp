@@ -11,9 +11,9 @@
 #include "grid/decomposition.hpp"
 #include "grid/halo_exchange.hpp"
 #include "io/csv_series.hpp"
+#include "io/output_layout.hpp"
 #include "models/plants/seaweed_mechanics.hpp"
 #include "particles/particle_comm.hpp"
-#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
 

@@ -191,7 +191,8 @@ void WindScenario::step() {
 void WindScenario::write_output() {
   auto scope = ctx_.timers.scope("output");
   io::OutputStep out(*decomp_, ctx_.output_dir, "wind", step_, mac_->time(), mac_->params().dx,
-                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, m/s, Pa, 1/s", out_layout_);
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, m/s, Pa, 1/s",
+                     out_layout_);
   out.add_vector("velocity", mac_->cell_velocity(), "m/s");
   auto p = mac_->cell_pressure();
   for (auto& v : p) v *= air_density_;

@@ -77,9 +77,9 @@ TEST(OutputLayout, BadRegionsAreOneLineErrorsNamingKeyAndDomain) {
   EXPECT_NE(error_of("[output]\nregion = [0.06, 0, 0, 0.14, 1, 1]\n", {10, 4, 3}, 0.1)
                 .find("x axis: no cell centre in [0.06, 0.14] m"),
             std::string::npos);
-  EXPECT_NE(error_of("[output]\nregion = [0.5, 0, 0, 0.1, 1, 1]\n", {10, 4, 3}, 0.1)
-                .find("is not a box"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("[output]\nregion = [0.5, 0, 0, 0.1, 1, 1]\n", {10, 4, 3}, 0.1).find("is not a box"),
+      std::string::npos);
   EXPECT_NE(error_of("[output]\ncompression = 4\nchunk = 0\n", {10, 4, 3}, 0.1)
                 .find("output.compression = 4 needs chunked datasets"),
             std::string::npos);
@@ -94,7 +94,8 @@ TEST(OutputLayout, OutputStepWritesTheSelectedCellsOnAnyRankCount) {
   grid::Decomposition d(MPI_COMM_WORLD, n, {false, false, false});
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const auto dir = std::filesystem::temp_directory_path() / ("biota_layout_np" + std::to_string(size));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("biota_layout_np" + std::to_string(size));
   if (d.rank() == 0) std::filesystem::create_directories(dir / "vtk");
   MPI_Barrier(MPI_COMM_WORLD);
   // dx 0.1: x centres 0.05, 0.15 -> cells 0, 1; y 0.15..0.45 -> 1..4; z all; stride 2.
@@ -155,7 +156,8 @@ TEST(OutputLayout, OutputStepWritesTheSelectedCellsOnAnyRankCount) {
     // Output cell (0, 0, 0) is centred on cell (0, 1, 0): origin = centre - stride dx / 2.
     EXPECT_NE(pvti.find("Origin=\"-0.05 0.05 -0.05\""), std::string::npos) << pvti;
     int pieces = 0;
-    for (auto pos = pvti.find("<Piece "); pos != std::string::npos; pos = pvti.find("<Piece ", pos + 1))
+    for (auto pos = pvti.find("<Piece "); pos != std::string::npos;
+         pos = pvti.find("<Piece ", pos + 1))
       ++pieces;
     EXPECT_GE(pieces, 1);
     EXPECT_LE(pieces, size);

@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
     if (nf == 0) out += "none";
     for (int i = 0; i < nf; ++i) {
       const H5Z_filter_t id = H5Pget_filter2(p, i, nullptr, nullptr, nullptr, 0, nullptr, nullptr);
-      out += std::string(i ? "," : "") +
-             (id == H5Z_FILTER_DEFLATE ? "deflate"
-                                       : id == H5Z_FILTER_SHUFFLE ? "shuffle" : std::to_string(id));
+      out += std::string(i ? "," : "") + (id == H5Z_FILTER_DEFLATE   ? "deflate"
+                                          : id == H5Z_FILTER_SHUFFLE ? "shuffle"
+                                                                     : std::to_string(id));
     }
     std::printf("%s\n", out.c_str());
     H5Pclose(p);

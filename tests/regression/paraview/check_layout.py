@@ -22,11 +22,22 @@ def check(cond, what):
         fail.append(what)
 
 
+def own_grid(data):
+    """A deep copy of the grid block (the XDMF reader's arrays point into its own buffers, freed
+    with the reader; a seaweed file also holds the particles as a second grid)."""
+    if data.IsA("vtkMultiBlockDataSet"):
+        blocks = [data.GetBlock(i) for i in range(data.GetNumberOfBlocks())]
+        data = [b for b in blocks if b is not None and b.IsA("vtkImageData")][0]
+    copy = data.NewInstance()
+    copy.DeepCopy(data)
+    return copy
+
+
 def last_xdmf(d, prefix):
-    files = sorted(glob.glob(f"{d}/{prefix}_*.xmf"))
+    files = sorted(glob.glob(f"{d}/{prefix}_[0-9]*.xmf"))
     reader = Xdmf3ReaderS(FileName=[files[-1]])
     reader.UpdatePipeline()
-    data = sm.Fetch(reader)
+    data = own_grid(sm.Fetch(reader))
     Delete(reader)
     return files[-1].split("/")[-1], data
 
@@ -35,7 +46,7 @@ def last_pvd(d, prefix):
     reader = PVDReader(FileName=f"{d}/{prefix}.pvd")
     t = list(reader.TimestepValues)
     reader.UpdatePipeline(t[-1])
-    data = sm.Fetch(reader)
+    data = own_grid(sm.Fetch(reader))
     Delete(reader)
     return data
 

@@ -66,7 +66,7 @@ def run(tmp, name, scen, ranks, sets):
 
 
 def last_h5(d, prefix):
-    return sorted(f for f in os.listdir(d) if f.startswith(prefix + "_") and f.endswith(".h5"))[-1]
+    return sorted(f for f in os.listdir(d) if f.startswith(prefix + "_") and f.endswith(".h5") and f[len(prefix) + 1].isdigit())[-1]
 
 
 failures = 0
@@ -83,7 +83,9 @@ with tempfile.TemporaryDirectory() as tmp:
         ("seaweed_ref", "seaweed", 2, None, 1, []),
         ("seaweed_region_np2", "seaweed", 2, [0.1, 0.0, 0.05, 0.3, 0.4, 0.21], 1,
          ["output.compression=1"]),
-        ("wind_ref", "wind", 1, None, 1, []),
+        # Same rank count as its variant: the PETSc Krylov solve's reductions make wind fields
+        # differ in the last bits between rank counts (the LBM's do not, see the tank pair).
+        ("wind_ref", "wind", 2, None, 1, []),
         ("wind_region_stride_np2", "wind", 2, [1.0, 0.0, 0.5, 5.0, 3.2, 3.2], 2,
          ["output.compression=9", "output.chunk=2"]),
     ]
