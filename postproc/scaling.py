@@ -49,7 +49,7 @@ SCENARIOS = {
     "flock": dict(deck="input/flock.toml", unit="particles", mlups=False,
                   args=lambda nx, n: [], work=None),
 }
-SIZES = {"small": dict(n=24, steps=60), "medium": dict(n=64, steps=300)}
+SIZES = {"tiny": dict(n=12, steps=6), "small": dict(n=24, steps=60), "medium": dict(n=64, steps=300)}
 
 
 def run(scn, ranks, nx, n, steps, mpiexec, biota, tmp):
