@@ -74,10 +74,15 @@ void declare_output_layout_config(core::ConfigSchema& s) {
 }
 
 namespace {
+// A schema without these keys (a test building a scenario from its own keys only) gets defaults.
+int int_or(const core::Config& cfg, const char* key, int def) {
+  return cfg.schema().find(key) ? static_cast<int>(cfg.get_int(key)) : def;
+}
+
 OutputLayout storage(const core::Config& cfg) {
   OutputLayout l;
-  l.chunk = static_cast<int>(cfg.get_int("output.chunk"));
-  l.compression = static_cast<int>(cfg.get_int("output.compression"));
+  l.chunk = int_or(cfg, "output.chunk", l.chunk);
+  l.compression = int_or(cfg, "output.compression", l.compression);
   if (l.compression > 0 && l.chunk == 0)
     cfg.fail("output.compression",
              "needs chunked datasets: set output.chunk to 1-512 (HDF5 compresses chunk by chunk)");
@@ -88,7 +93,7 @@ OutputLayout storage(const core::Config& cfg) {
 OutputLayout output_layout(const core::Config& cfg, const core::Index3& cells, double dx,
                            const core::Vec3& origin) {
   OutputLayout l = storage(cfg);
-  l.stride = static_cast<int>(cfg.get_int("output.stride"));
+  l.stride = int_or(cfg, "output.stride", 1);
   if (!cfg.has("output.region")) return l;
   const auto& b = cfg.get_real_list("output.region");
   const std::string domain = fmt::format(
@@ -119,7 +124,7 @@ OutputLayout output_layout(const core::Config& cfg, const core::Index3& cells, d
 
 OutputLayout output_layout_whole(const core::Config& cfg, const std::string& why) {
   if (cfg.has("output.region")) cfg.fail("output.region", why);
-  if (cfg.get_int("output.stride") != 1) cfg.fail("output.stride", why);
+  if (int_or(cfg, "output.stride", 1) != 1) cfg.fail("output.stride", why);
   return storage(cfg);
 }
 

@@ -117,6 +117,16 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
   bodies_->begin_step();
   last_ = bodies_->clusters();
+  {  // The spheres exist only after growth: their memory (owned + ghosts, every attribute, id) is
+     // printed here, beside the LBM estimate printed before allocation.
+    const auto& st = bodies_->set();
+    long long bytes = static_cast<long long>(st.n_total()) * (st.pack_width(false) + 1) * 8,
+              most = 0;
+    MPI_Allreduce(&bytes, &most, 1, MPI_LONG_LONG, MPI_MAX, ctx.comm);
+    if (decomp_->rank() == 0)
+      fmt::print("memory: seaweed spheres {:.3g} kB on the fullest rank (owned + ghosts)\n",
+                 most / 1e3);
+  }
 }
 
 void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {
