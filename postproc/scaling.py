@@ -17,6 +17,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from traffic_model import lbm_model  # noqa: E402
@@ -212,10 +213,10 @@ def plot(rows, out, timed, counted, note, uptime):
         for x in ax:
             x.legend(fontsize=7)
             x.grid(alpha=0.3)
-        fig.suptitle(f"Times measured at {timed} ranks only (one core per rank on this machine); at "
-                     f"{counted} ranks the runs were oversubscribed and only the bytes and messages "
-                     f"the code counts itself are shown (they do not depend on the core count). {note}"
-                     f"\n{uptime}", fontsize=8)
+        title = (f"Times measured at {timed} ranks only (one core per rank on this machine); at "
+                 f"{counted} ranks the runs were oversubscribed and only the bytes and messages the "
+                 f"code counts itself are shown (they do not depend on the core count). {note}")
+        fig.suptitle("\n".join(textwrap.wrap(title, 170) + [uptime]), fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(out, f"scaling_{scn}.png"), dpi=90)
         plt.close(fig)
