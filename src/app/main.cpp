@@ -5,6 +5,7 @@
 #include <mpi.h>
 #include <vtkVersion.h>
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include <toml++/toml.h>
 #include <fstream>
@@ -122,6 +123,10 @@ int main(int argc, char** argv) {
     }
   MpiEnvironment mpi(argc, argv);
   const bool root = is_root();
+  // Line-buffered stdout: in a batch job stdout is a file, and fully buffered progress lines
+  // reached the job log only in 4 kB blocks (a user tailing it, or a scheduler test waiting for
+  // "step N/M", saw them late). Rank 0 prints a few lines per progress interval: no cost.
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
 
   CLI::App cli{"Biota: living systems in moving fluids (MPI)"};
   cli.require_subcommand(0, 1);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -13,6 +14,7 @@
 #include "core/agreement.hpp"
 #include "core/error.hpp"
 #include "core/timers.hpp"
+#include "io/output_layout.hpp"
 
 namespace biota::app {
 namespace {
@@ -53,13 +55,16 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
   if (len) cfg.fail(key, "cannot be used as a directory: " + err);
 }
 
-// Bytes of every regular file under `dir` (rank 0; output steps are rare, so a walk is cheap).
-long long tree_bytes(const std::string& dir) {
+// Bytes of the regular files under `dir` written at or after `since` (rank 0; output steps are
+// rare, so a walk is cheap). Modification times, not the growth of the tree: a rerun or restart
+// into the same directory overwrites files of the same size, which grew the tree by nothing.
+long long bytes_written_since(const std::string& dir, std::filesystem::file_time_type since) {
   long long total = 0;
   std::error_code ec;
   for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
        !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
-    if (it->is_regular_file(ec)) total += static_cast<long long>(it->file_size(ec));
+    if (it->is_regular_file(ec) && it->last_write_time(ec) >= since)
+      total += static_cast<long long>(it->file_size(ec));
   return total;
 }
 
@@ -124,6 +129,7 @@ void declare_common_config(core::ConfigSchema& s) {
   s.add_string("output.dir", "out", {}, "directory for HDF5/XDMF/VTK output");
   s.add_int("output.interval", 0, 0, 1'000'000'000'000,
             "steps between output steps (0: only the first and last step)");
+  io::declare_output_layout_config(s);
   s.add_string("checkpoint.dir", "out/checkpoints", {}, "directory for checkpoints");
   s.add_int("checkpoint.interval", 0, 0, 1'000'000'000'000,
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");
@@ -188,9 +194,17 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   IoTally out_io, ckpt_io;
   auto output = [&]() {
     const double t0 = MPI_Wtime();
-    const long long before = root ? tree_bytes(out_dir) : 0;
+    // The file system's clock, read from a file it stamps (it may differ from the system clock).
+    std::filesystem::file_time_type since{};
+    if (root) {
+      const auto stamp = std::filesystem::path(out_dir) / ".biota_output_clock";
+      std::ofstream(stamp).put('\n');
+      std::error_code ec;
+      since = std::filesystem::last_write_time(stamp, ec);
+      std::filesystem::remove(stamp, ec);
+    }
     phase("output", [&] { scenario->write_output(); });
-    out_io.add(MPI_Wtime() - t0, root ? tree_bytes(out_dir) - before : 0);
+    out_io.add(MPI_Wtime() - t0, root ? bytes_written_since(out_dir, since) : 0);
   };
   auto checkpoint = [&](const char* why) {
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());

@@ -72,14 +72,29 @@ void ensure_group(hid_t file, const std::string& path) {
 
 void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                 const double* data, hid_t type) {
+                 const double* data, hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
   auto slash = name.rfind('/');
   if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
   const int rank = static_cast<int>(global.size());
   hid_t fspace = H5Screate_simple(rank, global.data(), nullptr);
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (!chunk.empty()) {
+    if (chunk.size() != global.size())
+      throw std::logic_error("HDF5: chunk rank differs from dataset rank for " + name);
+    check(H5Pset_chunk(dcpl, rank, chunk.data()), "chunk " + name);
+    // Every value is written: skip the fill pass (parallel HDF5 would write each chunk twice).
+    check(H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER), "fill time " + name);
+    if (deflate > 0) {
+      check(H5Pset_shuffle(dcpl), "shuffle filter " + name);
+      check(H5Pset_deflate(dcpl, static_cast<unsigned>(deflate)), "deflate filter " + name);
+    }
+  } else if (deflate > 0) {
+    throw std::logic_error("HDF5: compression without chunks for " + name);
+  }
   hid_t dset =
-      check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT),
                "create dataset " + name);
+  H5Pclose(dcpl);
   hid_t mspace = select_block(fspace, offset, count);
   hid_t dxpl = collective_transfer();
   check(H5Dwrite(dset, type, mspace, fspace, dxpl, data), "write " + name);
@@ -136,6 +151,16 @@ void write_int_attribute(hid_t obj, const std::string& name, long long value) {
   hid_t space = H5Screate(H5S_SCALAR);
   hid_t attr = H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space, H5P_DEFAULT, H5P_DEFAULT);
   check(H5Awrite(attr, H5T_NATIVE_LLONG, &value), "write attribute " + name);
+  H5Aclose(attr);
+  H5Sclose(space);
+}
+
+void write_double_list_attribute(hid_t obj, const std::string& name,
+                                 const std::vector<double>& values) {
+  const hsize_t n = values.size();
+  hid_t space = H5Screate_simple(1, &n, nullptr);
+  hid_t attr = H5Acreate2(obj, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(H5Awrite(attr, H5T_NATIVE_DOUBLE, values.data()), "write attribute " + name);
   H5Aclose(attr);
   H5Sclose(space);
 }

@@ -16,10 +16,13 @@ hid_t open_parallel(const std::string& path, MPI_Comm comm);
 /// \brief Create the group path (like mkdir -p), return nothing.
 void ensure_group(hid_t file, const std::string& path);
 /// \brief Collective write of a global double dataset: `global` dims, this rank's block at
-/// `offset` with `count`; `data` holds the block in C order.
+/// `offset` with `count`; `data` holds the block in C order. A non-empty `chunk` (same rank as
+/// `global`) stores the dataset in chunks; `deflate` > 0 adds the shuffle and deflate filters
+/// (needs chunks; parallel HDF5 >= 1.10.2 writes filtered datasets collectively).
 void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                 const double* data, hid_t type = H5T_NATIVE_DOUBLE);
+                 const double* data, hid_t type = H5T_NATIVE_DOUBLE,
+                 const std::vector<hsize_t>& chunk = {}, int deflate = 0);
 /// \brief Collective read of a block of a global dataset.
 void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
                 const std::vector<hsize_t>& count, void* data, hid_t type = H5T_NATIVE_DOUBLE);
@@ -28,6 +31,9 @@ std::vector<hsize_t> dims_of(hid_t file, const std::string& name);
 void write_string_attribute(hid_t obj, const std::string& name, const std::string& value);
 void write_double_attribute(hid_t obj, const std::string& name, double value);
 void write_int_attribute(hid_t obj, const std::string& name, long long value);
+/// \brief A 1-D double array attribute (e.g. an origin).
+void write_double_list_attribute(hid_t obj, const std::string& name,
+                                 const std::vector<double>& values);
 std::string read_string_attribute(hid_t obj, const std::string& name);
 double read_double_attribute(hid_t obj, const std::string& name);
 long long read_int_attribute(hid_t obj, const std::string& name);

@@ -20,7 +20,7 @@ namespace biota::io {
 
 OutputStep::OutputStep(const grid::Decomposition& decomp, std::string dir, std::string prefix,
                        long long step, double time, double dx, core::Vec3 origin,
-                       std::string effective_config, std::string units_note)
+                       std::string effective_config, std::string units_note, OutputLayout layout)
     : decomp_(decomp),
       dir_(std::move(dir)),
       prefix_(std::move(prefix)),
@@ -29,7 +29,8 @@ OutputStep::OutputStep(const grid::Decomposition& decomp, std::string dir, std::
       dx_(dx),
       origin_(origin),
       config_(std::move(effective_config)),
-      units_(std::move(units_note)) {}
+      units_(std::move(units_note)),
+      layout_(layout) {}
 
 void OutputStep::add_scalar(const std::string& name, std::vector<double> values,
                             const std::string& unit) {
@@ -45,6 +46,29 @@ void OutputStep::add_vector(const std::string& name, std::vector<double> values,
   arrays_.push_back({name, {std::move(values), 3, unit}});
 }
 
+std::vector<double> OutputStep::select(const std::vector<double>& local, int ncomp) const {
+  const auto& g = decomp_.global_cells();
+  const auto& box = decomp_.local_box();
+  if (layout_.stride == 1 && layout_.resolved(g).extent() == g) return local;
+  const grid::Box ob = layout_.out_box(g, box);
+  const auto oe = ob.extent();
+  const grid::Box r = layout_.resolved(g);
+  const auto e = box.extent();
+  const int k = layout_.stride;
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>(std::max(0LL, oe.product())) * ncomp);
+  for (int mz = ob.lo.z; mz < ob.hi.z; ++mz)
+    for (int my = ob.lo.y; my < ob.hi.y; ++my)
+      for (int mx = ob.lo.x; mx < ob.hi.x; ++mx) {
+        // Source cell of output cell m: r.lo + m k (global), minus the block's first cell.
+        const long long i = r.lo.x + mx * k - box.lo.x, j = r.lo.y + my * k - box.lo.y,
+                        l = r.lo.z + mz * k - box.lo.z;
+        const double* src = local.data() + ((l * e.y + j) * e.x + i) * ncomp;
+        out.insert(out.end(), src, src + ncomp);
+      }
+  return out;
+}
+
 std::string OutputStep::h5_path() const {
   return fmt::format("{}/{}_{:06d}.h5", dir_, prefix_, step_);
 }
@@ -52,26 +76,49 @@ std::string OutputStep::h5_path() const {
 void OutputStep::write() {
   const auto& g = decomp_.global_cells();
   const auto& box = decomp_.local_box();
-  const auto e = box.extent();
   const std::string stem = fmt::format("{}_{:06d}", prefix_, step_);
+  // The written grid: the selected cells (output.region, output.stride) as a grid of its own.
+  const core::Index3 n = layout_.out_cells(g);
+  const grid::Box ob = layout_.out_box(g, box);
+  const auto oe = ob.extent();
+  const bool have_cells = oe.x > 0 && oe.y > 0 && oe.z > 0;
+  const core::Vec3 origin = layout_.out_origin(g, dx_, origin_);
+  const double spacing = dx_ * layout_.stride;
+  for (auto& [name, a] : arrays_) a.data = select(a.data, a.ncomp);
 
-  // --- HDF5: one file, global datasets [Z][Y][X](,3), collective hyperslab writes.
+  // --- HDF5: one file, global datasets [Z][Y][X](,3), collective hyperslab writes; chunks and
+  // filters depend on the written grid only, so the file content is rank-independent.
   hid_t file = h5::create_parallel(h5_path(), decomp_.comm());
   h5::write_string_attribute(file, "config", config_);
   h5::write_string_attribute(file, "units", units_);
   h5::write_double_attribute(file, "time", time_);
   h5::write_int_attribute(file, "step", step_);
-  h5::write_double_attribute(file, "dx", dx_);
+  h5::write_double_attribute(file, "dx", spacing);
+  h5::write_double_attribute(file, "source_dx", dx_);
+  h5::write_int_attribute(file, "stride", layout_.stride);
+  {
+    const grid::Box r = layout_.resolved(g);
+    std::vector<double> o = {origin.x, origin.y, origin.z};
+    std::vector<double> first = {double(r.lo.x), double(r.lo.y), double(r.lo.z)};
+    h5::write_double_list_attribute(file, "origin", o);
+    h5::write_double_list_attribute(file, "first_cell", first);
+  }
   for (const auto& [name, a] : arrays_) {
-    std::vector<hsize_t> global = {hsize_t(g.z), hsize_t(g.y), hsize_t(g.x)};
-    std::vector<hsize_t> offset = {hsize_t(box.lo.z), hsize_t(box.lo.y), hsize_t(box.lo.x)};
-    std::vector<hsize_t> count = {hsize_t(e.z), hsize_t(e.y), hsize_t(e.x)};
+    std::vector<hsize_t> global = {hsize_t(n.z), hsize_t(n.y), hsize_t(n.x)};
+    std::vector<hsize_t> offset = {hsize_t(ob.lo.z), hsize_t(ob.lo.y), hsize_t(ob.lo.x)};
+    std::vector<hsize_t> count = {hsize_t(oe.z), hsize_t(oe.y), hsize_t(oe.x)};
+    if (!have_cells) count = {0, 0, 0};
+    std::vector<hsize_t> chunk;
+    if (layout_.chunk > 0)
+      for (hsize_t d : global) chunk.push_back(std::min<hsize_t>(d, hsize_t(layout_.chunk)));
     if (a.ncomp > 1) {
       global.push_back(a.ncomp);
       offset.push_back(0);
       count.push_back(a.ncomp);
+      if (!chunk.empty()) chunk.push_back(a.ncomp);
     }
-    h5::write_block(file, "/fields/" + name, global, offset, count, a.data.data());
+    h5::write_block(file, "/fields/" + name, global, offset, count, a.data.data(),
+                    H5T_NATIVE_DOUBLE, chunk, layout_.compression);
     hid_t ds = H5Dopen2(file, ("/fields/" + name).c_str(), H5P_DEFAULT);
     h5::write_string_attribute(ds, "unit", a.unit);
     H5Dclose(ds);
@@ -91,11 +138,11 @@ void OutputStep::write() {
   // --- VTK piece of this rank (point extents are cell extents + 1).
   std::filesystem::path vtk_dir = std::filesystem::path(dir_) / "vtk";
   const std::string piece = fmt::format("{}_{:04d}.vti", stem, decomp_.rank());
-  {
+  if (have_cells) {  // a rank without selected cells writes no piece
     vtkNew<vtkImageData> image;
-    image->SetExtent(box.lo.x, box.hi.x, box.lo.y, box.hi.y, box.lo.z, box.hi.z);
-    image->SetOrigin(origin_.x, origin_.y, origin_.z);
-    image->SetSpacing(dx_, dx_, dx_);
+    image->SetExtent(ob.lo.x, ob.hi.x, ob.lo.y, ob.hi.y, ob.lo.z, ob.hi.z);
+    image->SetOrigin(origin.x, origin.y, origin.z);
+    image->SetSpacing(spacing, spacing, spacing);
     for (const auto& [name, a] : arrays_) {
       vtkNew<vtkDoubleArray> arr;
       arr->SetName(name.c_str());
@@ -111,6 +158,12 @@ void OutputStep::write() {
     writer->EncodeAppendedDataOff();
     writer->SetHeaderTypeToUInt64();  // 32-bit headers cap an appended array at 4 GiB
     writer->SetIdTypeToInt64();
+    if (layout_.compression > 0) {
+      writer->SetCompressorTypeToZLib();
+      writer->SetCompressionLevel(layout_.compression);
+    } else {
+      writer->SetCompressorTypeToNone();
+    }
     if (!writer->Write())
       throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
   }
@@ -125,7 +178,7 @@ void OutputStep::write() {
     out << fmt::format(
         "<PImageData WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\" "
         "Origin=\"{} {} {}\" Spacing=\"{} {} {}\">\n<PCellData>\n",
-        g.x, g.y, g.z, origin_.x, origin_.y, origin_.z, dx_, dx_, dx_);
+        n.x, n.y, n.z, origin.x, origin.y, origin.z, spacing, spacing, spacing);
     for (const auto& [name, a] : arrays_)
       out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
                          name, a.ncomp);
@@ -136,7 +189,9 @@ void OutputStep::write() {
         for (int cx = 0; cx < dims.x; ++cx) {
           int coords[3] = {cx, cy, cz}, r = 0;
           MPI_Cart_rank(decomp_.comm(), coords, &r);
-          auto b = decomp_.box_of({cx, cy, cz});
+          const auto b = layout_.out_box(g, decomp_.box_of({cx, cy, cz}));
+          const auto be = b.extent();
+          if (be.x <= 0 || be.y <= 0 || be.z <= 0) continue;
           out << fmt::format("<Piece Extent=\"{} {} {} {} {} {}\" Source=\"{}_{:04d}.vti\"/>\n",
                              b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, b.hi.z, stem, r);
         }
@@ -153,16 +208,20 @@ void OutputStep::write() {
     out << fmt::format("<Grid Name=\"{}\" GridType=\"Uniform\">\n<Time Value=\"{:.17g}\"/>\n",
                        prefix_, time_);
     out << fmt::format("<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n",
-                       g.z + 1, g.y + 1, g.x + 1);
+                       n.z + 1, n.y + 1, n.x + 1);
     out << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n", origin_.z,
-                       origin_.y, origin_.x);
-    out << fmt::format("<DataItem Format=\"XML\" Dimensions=\"3\">{} {} {}</DataItem>\n", dx_, dx_,
-                       dx_);
+    out << fmt::format(
+        "<DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">{:.17g} "
+        "{:.17g} {:.17g}</DataItem>\n",
+        origin.z, origin.y, origin.x);
+    out << fmt::format(
+        "<DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">{:.17g} "
+        "{:.17g} {:.17g}</DataItem>\n",
+        spacing, spacing, spacing);
     out << "</Geometry>\n";
     for (const auto& [name, a] : arrays_) {
       out << xdmf_attribute(name, a.ncomp > 1, "Cell",
-                            fmt::format("{} {} {}{}", g.z, g.y, g.x, a.ncomp > 1 ? " 3" : ""),
+                            fmt::format("{} {} {}{}", n.z, n.y, n.x, a.ncomp > 1 ? " 3" : ""),
                             h5name + ":/fields/" + name);
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -4,6 +4,8 @@
 /// image pieces (.vti per rank, .pvti) appended to a .pvd time series, all ParaView-readable.
 ///
 /// Usage per output step: construct, add cell arrays (owned cells only, x fastest), `write()`.
+/// The `OutputLayout` selects the written cells (output.region, output.stride) and the HDF5
+/// storage (chunks, deflate); the arrays are always given for every owned cell.
 /// Files: <dir>/<prefix>_<step>.h5 / .xmf, <dir>/vtk/<prefix>_<step>.pvti (+ pieces),
 /// <dir>/<prefix>.pvd (rewritten by rank 0 with every step written so far).
 #include <map>
@@ -12,6 +14,7 @@
 
 #include "core/types.hpp"
 #include "grid/decomposition.hpp"
+#include "io/output_layout.hpp"
 
 namespace biota::io {
 
@@ -20,7 +23,7 @@ class OutputStep {
  public:
   OutputStep(const grid::Decomposition& decomp, std::string dir, std::string prefix, long long step,
              double time, double dx, core::Vec3 origin, std::string effective_config,
-             std::string units_note);
+             std::string units_note, OutputLayout layout = {});
   /// \brief A scalar cell array: local owned cells, x fastest (size = product of local cells).
   void add_scalar(const std::string& name, std::vector<double> values, const std::string& unit);
   /// \brief A 3-vector cell array: local owned cells, interleaved xyz (size = 3 * cells).
@@ -36,12 +39,16 @@ class OutputStep {
     int ncomp;
     std::string unit;
   };
+  /// \brief The selected cells of a local owned-cell array (x fastest, `ncomp` interleaved).
+  std::vector<double> select(const std::vector<double>& local, int ncomp) const;
+
   const grid::Decomposition& decomp_;
   std::string dir_, prefix_;
   long long step_;
   double time_, dx_;
   core::Vec3 origin_;
   std::string config_, units_;
+  OutputLayout layout_;
   std::vector<std::pair<std::string, Array>> arrays_;
 };
 

@@ -76,7 +76,7 @@ void FlockScenario::write_output() {
         left.push_back(static_cast<double>(std::max(0LL, flee_until_[s] - step_)));
       }
   io::OutputStep lat(*lattice_, ctx_.output_dir, "flock_sandpile", step_, time(), 1.0, {0, 0, 0},
-                     ctx_.config.effective_toml(), "lattice units: one site per prey");
+                     ctx_.config.effective_toml(), "lattice units: one site per prey", out_layout_);
   lat.add_scalar("height", std::move(h), "grains");
   lat.add_scalar("flee_frames_left", std::move(left), "frames");
   lat.write();

@@ -30,6 +30,10 @@ FlockScenario::OwnedComm::~OwnedComm() {
 
 FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& c = ctx.config;
+  out_layout_ = io::output_layout_whole(
+      c,
+      "applies to grid fields (tank, seaweed, wind); the flock's only grid output, the "
+      "sandpile lattice, is written whole");
   seed_ = static_cast<std::uint64_t>(c.get_int("seed"));
   dt_ = c.get_real("flock.dt");
   stats_every_ = static_cast<int>(c.get_int("flock.stats_interval"));

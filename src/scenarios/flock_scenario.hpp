@@ -17,6 +17,7 @@
 
 #include "grid/decomposition.hpp"
 #include "io/csv_series.hpp"
+#include "io/output_layout.hpp"
 #include "models/flock/boid_noise.hpp"
 #include "models/flock/boid_rules.hpp"
 #include "models/flock/sandpile.hpp"
@@ -93,6 +94,7 @@ class FlockScenario : public Scenario {
   core::Vec3 min_image(core::Vec3 d) const;
 
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.chunk/compression of the sandpile lattice
   std::uint64_t seed_ = 0;
   double dt_ = 0.05;
   long long step_ = 0;

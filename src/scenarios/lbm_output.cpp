@@ -1,6 +1,16 @@
 #include "scenarios/lbm_output.hpp"
 
+#include <fmt/format.h>
+
 namespace biota::scenarios {
+
+io::OutputLayout grid_output_layout(const core::Config& cfg, const grid::Decomposition& decomp,
+                                    double dx, const core::Vec3& origin) {
+  auto layout = io::output_layout(cfg, decomp.global_cells(), dx, origin);
+  if (decomp.rank() == 0 && (cfg.has("output.region") || layout.stride > 1 || layout.compression))
+    fmt::print("{}\n", layout.describe(decomp.global_cells(), dx, origin));
+  return layout;
+}
 
 void add_lbm_fields(io::OutputStep& out, const solvers::lbm::LbmSolver& lbm) {
   const auto n = lbm.decomposition().local_cells();

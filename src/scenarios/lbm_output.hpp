@@ -6,6 +6,11 @@
 
 namespace biota::scenarios {
 
+/// \brief The output layout of a grid scenario (output.region/stride/chunk/compression, checked
+/// against the grid); rank 0 prints it when it differs from "whole grid, uncompressed".
+io::OutputLayout grid_output_layout(const core::Config& cfg, const grid::Decomposition& decomp,
+                                    double dx, const core::Vec3& origin);
+
 /// \brief velocity [m/s], density [kg/m^3], pressure deviation [Pa] of the owned cells.
 void add_lbm_fields(io::OutputStep& out, const solvers::lbm::LbmSolver& lbm);
 

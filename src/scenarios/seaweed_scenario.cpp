@@ -46,6 +46,7 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
       grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
                          std::to_string(params.cells.y) + " x " + std::to_string(params.cells.z) +
@@ -116,6 +117,16 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
   bodies_->begin_step();
   last_ = bodies_->clusters();
+  {  // The spheres exist only after growth: their memory (owned + ghosts, every attribute, id) is
+     // printed here, beside the LBM estimate printed before allocation.
+    const auto& st = bodies_->set();
+    long long bytes = static_cast<long long>(st.n_total()) * (st.pack_width(false) + 1) * 8,
+              most = 0;
+    MPI_Allreduce(&bytes, &most, 1, MPI_LONG_LONG, MPI_MAX, ctx.comm);
+    if (decomp_->rank() == 0)
+      fmt::print("memory: seaweed spheres {:.3g} kB on the fullest rank (owned + ghosts)\n",
+                 most / 1e3);
+  }
 }
 
 void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {
@@ -228,7 +239,8 @@ void SeaweedScenario::write_output() {
   auto scope = ctx_.timers.scope("output");
   lbm_->update_macroscopic();
   io::OutputStep out(*decomp_, ctx_.output_dir, "seaweed", step_, time(), lbm_->units().dx(),
-                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa");
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, kg/m^3, m/s, Pa",
+                     out_layout_);
   add_lbm_fields(out, *lbm_);
   out.write();
   write_particles();

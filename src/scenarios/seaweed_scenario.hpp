@@ -11,6 +11,7 @@
 #include "grid/decomposition.hpp"
 #include "grid/halo_exchange.hpp"
 #include "io/csv_series.hpp"
+#include "io/output_layout.hpp"
 #include "models/plants/seaweed_mechanics.hpp"
 #include "particles/particle_comm.hpp"
 #include "scenarios/scenario.hpp"
@@ -53,6 +54,7 @@ class SeaweedScenario : public Scenario {
   long long last_broken_total();
 
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the LBM fields
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::lbm::LbmSolver> lbm_;
   std::unique_ptr<particles::ParticleComm> pcomm_;

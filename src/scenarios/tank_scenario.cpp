@@ -17,6 +17,7 @@ TankScenario::TankScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
       grid::GridKeys{ctx.config.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+  out_layout_ = grid_output_layout(ctx.config, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, ctx.config,
                      solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
@@ -45,7 +46,7 @@ void TankScenario::write_output() {
   lbm_->update_macroscopic();
   io::OutputStep out(*decomp_, ctx_.output_dir, "tank", lbm_->step_index(), lbm_->time(),
                      lbm_->units().dx(), {0, 0, 0}, ctx_.config.effective_toml(),
-                     "SI: m, s, kg/m^3, m/s, Pa");
+                     "SI: m, s, kg/m^3, m/s, Pa", out_layout_);
   add_lbm_fields(out, *lbm_);
   out.write();
 }

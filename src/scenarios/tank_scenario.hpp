@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "grid/decomposition.hpp"
+#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
 
@@ -31,6 +32,7 @@ class TankScenario : public Scenario {
 
  private:
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the LBM fields
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::lbm::LbmSolver> lbm_;
   double last_updates_ = 0, last_wall_ = 0;

@@ -11,6 +11,7 @@
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
 #include "linalg/petsc_environment.hpp"
+#include "scenarios/lbm_output.hpp"
 
 namespace biota::scenarios {
 
@@ -142,6 +143,7 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
       grid::GridKeys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}});
   grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts,
                          {"wind.nx", "wind.ny", "wind.nz"});
+  out_layout_ = grid_output_layout(ctx.config, *decomp_, p.dx, {0, 0, 0});
   {
     // MAC fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with 2 ghost layers, and
     // the pressure solve (7-point matrix, multigrid hierarchy, Krylov vectors: ~300 B per cell).
@@ -189,7 +191,8 @@ void WindScenario::step() {
 void WindScenario::write_output() {
   auto scope = ctx_.timers.scope("output");
   io::OutputStep out(*decomp_, ctx_.output_dir, "wind", step_, mac_->time(), mac_->params().dx,
-                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, m/s, Pa, 1/s");
+                     {0, 0, 0}, ctx_.config.effective_toml(), "SI: m, s, m/s, Pa, 1/s",
+                     out_layout_);
   out.add_vector("velocity", mac_->cell_velocity(), "m/s");
   auto p = mac_->cell_pressure();
   for (auto& v : p) v *= air_density_;

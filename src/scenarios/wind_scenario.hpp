@@ -7,6 +7,7 @@
 
 #include "grid/decomposition.hpp"
 #include "io/checkpoint.hpp"
+#include "io/output_layout.hpp"
 #include "scenarios/scenario.hpp"
 #include "solvers/mac/mac_solver.hpp"
 
@@ -45,6 +46,7 @@ class WindScenario : public Scenario {
   virtual void read_extra(io::CheckpointReader&) {}
 
   RunContext ctx_;
+  io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the wind fields
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<solvers::mac::MacSolver> mac_;
   double step_time_ = 0.05, air_density_ = 1.2;

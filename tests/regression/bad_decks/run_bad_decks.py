@@ -106,6 +106,15 @@ CASES = [
                                           "tree.contact_stiffness=1e6"], "tree.contact_stiffness"),
     ("missing L-system file", TREE.replace("{tmp}/paper_fig1.lsys", "{tmp}/nope.lsys"), [],
      "tree.species1.lsystem"),
+    # Issue 12: output.region must select a cell of the domain (0.08 m tank here); region and
+    # stride apply to grid fields, not to the flock.
+    ("output region outside", GOOD, ["--set", "output.region=[1, 1, 1, 2, 2, 2]"],
+     "output.region = [1, 1, 1, 2, 2, 2] selects no cell (x axis: no cell centre in [1, 2] m); the domain is [0, 0.08]"),
+    ("output region inverted", GOOD, ["--set", "output.region=[0.05, 0, 0, 0.01, 0.08, 0.08]"],
+     "output.region = [0.05, 0, 0, 0.01, 0.08, 0.08] is not a box"),
+    ("compression without chunks", GOOD, ["--set", "output.compression=3", "--set", "output.chunk=0"],
+     "output.compression = 3 needs chunked datasets"),
+    ("flock output stride", FLOCK, ["--set", "output.stride=2"], "output.stride = 2 applies to grid fields"),
     ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
      "run.progress_interval"),
 ]

@@ -2,6 +2,8 @@
 /// \brief Test helper for run_faults.py (no h5py on the test machines):
 ///   h5_tool set-int <file> <attribute> <value>   overwrite a root integer attribute
 ///   h5_tool same <a> <b> <dataset>               exit 0 if the double datasets are bitwise equal
+///   h5_tool layout <file> <dataset>              print "chunked AxBxC filters shuffle,deflate" or
+///                                                "contiguous filters none"
 #include <hdf5.h>
 
 #include <cstdio>
@@ -54,6 +56,38 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu of %zu values differ\n", argv[4], differ, a.size());
     return differ != 0;
   }
-  std::fprintf(stderr, "usage: h5_tool set-int <file> <attr> <value> | same <a> <b> <dataset>\n");
+  if (argc == 4 && std::string(argv[1]) == "layout") {
+    hid_t f = H5Fopen(argv[2], H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) return 1;
+    hid_t d = H5Dopen2(f, argv[3], H5P_DEFAULT);
+    if (d < 0) return 1;
+    hid_t p = H5Dget_create_plist(d);
+    std::string out;
+    if (H5Pget_layout(p) == H5D_CHUNKED) {
+      hsize_t c[8] = {};
+      const int n = H5Pget_chunk(p, 8, c);
+      out = "chunked ";
+      for (int i = 0; i < n; ++i) out += (i ? "x" : "") + std::to_string(c[i]);
+    } else {
+      out = "contiguous";
+    }
+    const int nf = H5Pget_nfilters(p);
+    out += " filters ";
+    if (nf == 0) out += "none";
+    for (int i = 0; i < nf; ++i) {
+      const H5Z_filter_t id = H5Pget_filter2(p, i, nullptr, nullptr, nullptr, 0, nullptr, nullptr);
+      out += std::string(i ? "," : "") + (id == H5Z_FILTER_DEFLATE   ? "deflate"
+                                          : id == H5Z_FILTER_SHUFFLE ? "shuffle"
+                                                                     : std::to_string(id));
+    }
+    std::printf("%s\n", out.c_str());
+    H5Pclose(p);
+    H5Dclose(d);
+    H5Fclose(f);
+    return 0;
+  }
+  std::fprintf(stderr,
+               "usage: h5_tool set-int <file> <attr> <value> | same <a> <b> <dataset> | layout "
+               "<file> <dataset>\n");
   return 2;
 }
