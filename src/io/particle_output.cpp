@@ -316,7 +316,8 @@ void ParticleOutput::write(const ParticleData& d) {
           "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
           st_tot, h5, sv_tot);
       for (const auto& [name, v] : surf.cell_scalars)
-        out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot), h5 + ":/surface/" + name);
+        out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
+                              h5 + ":/surface/" + name);
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -90,8 +90,7 @@ void MossScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("moss.weather.wind", 0.2, 0.0, 100.0, "m/s", "wind speed U", true);
   s.add_real("moss.weather.possible_sunshine", 8.0, 0.0, 24.0, "h", "N0", true);
   s.add_real("moss.weather.sunshine", 6.0, 0.0, 24.0, "h", "N (sunshine ratio A = N / N0)");
-  for (int k = 0; k < 3; ++k)
-    s.add_bool(kSpeciesKeys[k], true, "species of Table 4.2 present");
+  for (int k = 0; k < 3; ++k) s.add_bool(kSpeciesKeys[k], true, "species of Table 4.2 present");
   s.add_int("moss.initial", 256, 0, 16384, "mosses placed at random on upward faces at day 0");
   s.add_int("moss.max_mosses", 16384, 1, 10'000'000,
             "cap on live mosses (paper: 16384); at the cap germination is refused (erratum 29)");
@@ -136,7 +135,7 @@ MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
   if (rain_mm_ > 0 && rain_days_ == 0)
     c.fail("moss.weather.rain_days", "is 0 but moss.weather.precipitation > 0 (allowed: 1 to 365)");
   delta_form_ = c.get_string("moss.soil.delta_form") == "printed" ? mm::DeltaForm::kPrinted
-                                                                   : mm::DeltaForm::kCorrected;
+                                                                  : mm::DeltaForm::kCorrected;
   ch_radius_ = c.get_real("moss.soil.ch_radius");
   size_ = c.get_real("moss.size");
   ch_max_count_ = std::floor(M_PI * ch_radius_ * ch_radius_ / (size_ * size_));
@@ -169,9 +168,9 @@ MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
                                            c.get_real("moss.sun.azimuth"));
   if (mode == "date") {
     try {
-      to_sun = mm::sun_direction_from_date(static_cast<int>(c.get_int("moss.sun.day_of_year")),
-                                           c.get_real("moss.sun.hour"),
-                                           c.get_real("moss.sun.latitude"));
+      to_sun =
+          mm::sun_direction_from_date(static_cast<int>(c.get_int("moss.sun.day_of_year")),
+                                      c.get_real("moss.sun.hour"), c.get_real("moss.sun.latitude"));
     } catch (const std::invalid_argument& e) {
       c.fail("moss.sun.hour", e.what());
     }
@@ -229,10 +228,9 @@ void MossScenario::load_terrain() {
   namespace fs = std::filesystem;
   fs::path file = c.get_string("moss.terrain.file");
   if (file.is_relative()) file = fs::path(c.source()).parent_path() / file;
-  const std::vector<io::PaletteColour> pal{
-      {"humus", {0x5c / 255.0, 0x33 / 255.0, 0x17 / 255.0}},
-      {"sand", {0xcc / 255.0, 0x99 / 255.0, 0x33 / 255.0}},
-      {"asphalt", {0x80 / 255.0, 0x80 / 255.0, 0x80 / 255.0}}};
+  const std::vector<io::PaletteColour> pal{{"humus", {0x5c / 255.0, 0x33 / 255.0, 0x17 / 255.0}},
+                                           {"sand", {0xcc / 255.0, 0x99 / 255.0, 0x33 / 255.0}},
+                                           {"asphalt", {0x80 / 255.0, 0x80 / 255.0, 0x80 / 255.0}}};
   try {
     mesh_ = io::read_obj_terrain(file.string(), pal, c.get_real("moss.terrain.colour_tolerance"),
                                  c.get_string("moss.terrain.up"));
@@ -306,8 +304,8 @@ std::vector<MossRecord> MossScenario::gather_mosses() const {
     const Vec3 x = set_->pos(i);
     mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z,
                              double(set_->u64(u_species_)[i]), double(set_->u64(u_face_)[i]),
-                             set_->real(a_gmoss_)[i], set_->real(a_gmax_)[i],
-                             set_->real(a_age_)[i], set_->real(a_s_)[i]});
+                             set_->real(a_gmoss_)[i], set_->real(a_gmax_)[i], set_->real(a_age_)[i],
+                             set_->real(a_s_)[i]});
   }
   const int P = decomp_->size();
   int cnt = static_cast<int>(mine.size());
@@ -316,8 +314,8 @@ std::vector<MossRecord> MossScenario::gather_mosses() const {
   int total = 0;
   for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
   std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, ctx_.comm);
+  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 ctx_.comm);
   std::vector<MossRecord> out;
   out.reserve(total / kW);
   for (int k = 0; k + kW <= total; k += kW)
@@ -362,9 +360,9 @@ void MossScenario::photon_and_soil(const std::vector<MossRecord>& all) {
   std::vector<Vec3> q = centroid_;
   q.insert(q.end(), pos.begin(), pos.end());
   for (const auto& s : seeds_) q.push_back(s.x);
-  const auto S = photon_map_->insolation(*tracer_, light_, sphere_, seed_,
-                                         static_cast<std::uint64_t>(day_), map_settings_, q,
-                                         &last_map_);
+  const auto S =
+      photon_map_->insolation(*tracer_, light_, sphere_, seed_, static_cast<std::uint64_t>(day_),
+                              map_settings_, q, &last_map_);
   const std::size_t nf = centroid_.size(), nm = all.size();
   std::copy(S.begin(), S.begin() + nf, face_s_.begin());
   moss_s_.assign(S.begin() + nf, S.begin() + nf + nm);
@@ -501,7 +499,8 @@ void MossScenario::grow_and_reproduce(const std::vector<MossRecord>& all) {
     const int n = g2[i] + (s2[i] ? 1 : 0);
     for (int k = 0; k < n; ++k) {
       const bool is_spore = k == g2[i];
-      const Vec3 dir = is_spore ? mm::spore_direction(normal_[face], rng) : mm::gemma_direction(rng);
+      const Vec3 dir =
+          is_spore ? mm::spore_direction(normal_[face], rng) : mm::gemma_direction(rng);
       Vec3 b = x + dir * (is_spore ? spore_distance_ : gemma_distance_);  // (3.22), (3.23)
       b += noise_.offset(b);
       const auto l = mm::drop_seed(*tracer_, normal_, centres, faces, b, size_);
@@ -525,8 +524,8 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
   int total = 0;
   for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
   std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, ctx_.comm);
+  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 ctx_.comm);
   std::vector<std::size_t> order(static_cast<std::size_t>(total / kW));
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   auto key = [&](std::size_t k) {
@@ -552,8 +551,7 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
   }
   // One spore from outside every interval days (spec 2.4), placed like the initial mosses.
   if (outside_interval_ > 0 && (day_ + 1) % outside_interval_ == 0) {
-    core::Rng rng(seed_, kOutsideStream, static_cast<std::uint64_t>(day_),
-                  core::RngPurpose::kMoss);
+    core::Rng rng(seed_, kOutsideStream, static_cast<std::uint64_t>(day_), core::RngPurpose::kMoss);
     const int sp = species_enabled_[rng.uniform_int(0, std::ssize(species_enabled_) - 1)];
     const mm::SurfaceSampler sampler(mesh_.vertices, mesh_.triangles, normal_);
     const mm::Landing l = sampler.sample(rng, size_);

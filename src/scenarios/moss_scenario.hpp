@@ -47,8 +47,8 @@ struct MossSeed {
 
 /// \brief Counters of one day (identical on every rank).
 struct MossDayCounts {
-  long long germinated = 0, died = 0, landed = 0, lost = 0, refused = 0, occupied = 0,
-            expired = 0, dropped = 0, outside = 0;
+  long long germinated = 0, died = 0, landed = 0, lost = 0, refused = 0, occupied = 0, expired = 0,
+            dropped = 0, outside = 0;
 };
 
 /// \brief Terrain + soil + photon map + moss population; see file comment.

@@ -57,8 +57,8 @@ void MossScenario::record_csv() {
   const auto& k = counts_;
   csv_.row(fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", day_,
                        sp[0] + sp[1] + sp[2], sp[0], sp[1], sp[2], rg[0], rg[1], rg[2],
-                       seeds_.size(), k.germinated, k.died, k.landed, k.lost, k.refused,
-                       k.occupied, k.expired, k.dropped, k.outside));
+                       seeds_.size(), k.germinated, k.died, k.landed, k.lost, k.refused, k.occupied,
+                       k.expired, k.dropped, k.outside));
 }
 
 void MossScenario::write_output() {
@@ -90,8 +90,8 @@ void MossScenario::write_output() {
     for (const auto& tri : mesh_.triangles)
       for (int k = 0; k < 3; ++k) t.triangles.push_back(static_cast<std::uint64_t>(tri[k]));
     std::vector<double> soil(mesh_.palette_index.begin(), mesh_.palette_index.end());
-    t.cell_scalars = {{"S", face_s_},         {"T_s", face_ts_},    {"rh_s", face_rhs_},
-                      {"theta", face_theta_}, {"bucket", bucket_},  {"soil", std::move(soil)},
+    t.cell_scalars = {{"S", face_s_},         {"T_s", face_ts_},   {"rh_s", face_rhs_},
+                      {"theta", face_theta_}, {"bucket", bucket_}, {"soil", std::move(soil)},
                       {"depth", depth_mm_}};
   } else {
     for (const char* name : {"S", "T_s", "rh_s", "theta", "bucket", "soil", "depth"})
@@ -129,10 +129,9 @@ void MossScenario::write_checkpoint(const std::string& path) {
     return v;
   }());
   const auto& k = counts_;
-  w.write_replicated("moss_counts",
-                     {double(k.germinated), double(k.died), double(k.landed), double(k.lost),
-                      double(k.refused), double(k.occupied), double(k.expired), double(k.dropped),
-                      double(k.outside)});
+  w.write_replicated("moss_counts", {double(k.germinated), double(k.died), double(k.landed),
+                                     double(k.lost), double(k.refused), double(k.occupied),
+                                     double(k.expired), double(k.dropped), double(k.outside)});
   w.commit();
 }
 
@@ -153,9 +152,12 @@ void MossScenario::read_checkpoint(const std::string& path) {
   seeds_.clear();
   const auto sv = r.read_replicated("moss_seeds");
   for (std::size_t k = 0; k + 8 <= sv.size(); k += 8)
-    seeds_.push_back({static_cast<core::GlobalId>(sv[k]), static_cast<int>(sv[k + 1]),
-                      static_cast<int>(sv[k + 2]), static_cast<int>(sv[k + 3]),
-                      {sv[k + 4], sv[k + 5], sv[k + 6]}, std::llround(sv[k + 7])});
+    seeds_.push_back({static_cast<core::GlobalId>(sv[k]),
+                      static_cast<int>(sv[k + 1]),
+                      static_cast<int>(sv[k + 2]),
+                      static_cast<int>(sv[k + 3]),
+                      {sv[k + 4], sv[k + 5], sv[k + 6]},
+                      std::llround(sv[k + 7])});
   const auto b = r.read_replicated("moss_bucket");
   const std::size_t nf = centroid_.size();
   const auto fs = r.read_replicated("moss_face_state");
@@ -194,8 +196,8 @@ void MossScenario::poison_for_test() {
 std::string MossScenario::progress() {
   const auto sp = species_counts();
   return fmt::format("mosses {} (bryum {} hypnum {} polytrichum {}) seeds {} germinated {} died {}",
-                     sp[0] + sp[1] + sp[2], sp[0], sp[1], sp[2], seeds_.size(),
-                     counts_.germinated, counts_.died);
+                     sp[0] + sp[1] + sp[2], sp[0], sp[1], sp[2], seeds_.size(), counts_.germinated,
+                     counts_.died);
 }
 
 std::vector<std::string> MossScenario::timer_sections() const {

@@ -45,7 +45,8 @@ SurfaceSampler::SurfaceSampler(const std::vector<Vec3>& v,
   double sum = 0;
   for (std::size_t f = 0; f < tris.size(); ++f) {
     if (!(normals[f].y > 0)) continue;
-    sum += 0.5 * core::norm(core::cross(v[tris[f][1]] - v[tris[f][0]], v[tris[f][2]] - v[tris[f][0]]));
+    sum +=
+        0.5 * core::norm(core::cross(v[tris[f][1]] - v[tris[f][0]], v[tris[f][2]] - v[tris[f][0]]));
     faces_.push_back(static_cast<int>(f));
     cumulative_.push_back(sum);
   }
