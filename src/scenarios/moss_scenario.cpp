@@ -96,6 +96,8 @@ void MossScenario::declare_config(core::ConfigSchema& s) {
             "cap on live mosses (paper: 16384); at the cap germination is refused (erratum 29)");
   s.add_int("moss.max_seeds", 65536, 0, 10'000'000,
             "cap on dormant seeds; new seeds beyond it are dropped (counted)");
+  s.add_int("moss.max_layers", 3, 1, 1000,
+            "models per column: a seed landing on a moss of the top layer rolls off (is lost)");
   s.add_real("moss.size", 0.01, 0.0, 0.5, "m", "edge of a moss model (paper: 1 cm)", true);
   s.add_real("moss.reflectance", 0.2, 0.0, 1.0, "-", "photon reflectance of a moss model");
   s.add_real("moss.gemma_distance", 0.02, 0.0, 1.0, "m", "k of (3.22)", true);
@@ -144,6 +146,7 @@ MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
   spore_distance_ = c.get_real("moss.spore_distance");
   patch_radius_ = c.get_real("moss.patch.radius");
   patch_inside_ = static_cast<int>(c.get_int("moss.patch.inside"));
+  max_layers_ = static_cast<int>(c.get_int("moss.max_layers"));
   max_mosses_ = c.get_int("moss.max_mosses");
   max_seeds_ = c.get_int("moss.max_seeds");
   outside_interval_ = c.get_int("moss.outside_spore_interval");
@@ -207,6 +210,7 @@ MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
   a_s_ = layout.add_real("insolation", 1, true, false);
   u_species_ = layout.add_u64("species", 1, true, false);
   u_face_ = layout.add_u64("face", 1, true, false);
+  u_layer_ = layout.add_u64("layer", 1, true, false);
   set_ = std::make_unique<particles::ParticleSet>(layout);
   {
     auto scope = ctx_.timers.scope("setup");
@@ -235,7 +239,7 @@ void MossScenario::load_terrain() {
     mesh_ = io::read_obj_terrain(file.string(), pal, c.get_real("moss.terrain.colour_tolerance"),
                                  c.get_string("moss.terrain.up"));
   } catch (const core::InputError& e) {
-    c.fail("moss.terrain.file", e.what());
+    c.fail("moss.terrain.file", std::string("cannot be used: ") + e.what());
   }
   const auto& refl = c.get_real_list("moss.soil.reflectance");
   for (int k = 0; k < 3; ++k)
@@ -257,11 +261,12 @@ void MossScenario::load_terrain() {
   depth_mm_ = mm::soil_depth_mm(*tracer_, mesh_.vertices, mesh_.triangles);
 }
 
-void MossScenario::add_moss(core::GlobalId id, const Vec3& x, int species, int face) {
+void MossScenario::add_moss(core::GlobalId id, const Vec3& x, int species, int face, int layer) {
   if (pcomm_->owner_of(x) != decomp_->rank()) return;
   const std::size_t i = set_->add_owned(id, x);
   set_->u64(u_species_)[i] = static_cast<std::uint64_t>(species);
   set_->u64(u_face_)[i] = static_cast<std::uint64_t>(face);
+  set_->u64(u_layer_)[i] = static_cast<std::uint64_t>(layer);
 }
 
 void MossScenario::place_initial() {
@@ -283,7 +288,7 @@ void MossScenario::place_initial() {
     if (taken) continue;
     grid.add(l.centre, placed.size());
     placed.push_back(l.centre);
-    add_moss(next_moss_id_++, l.centre, sp, l.face);
+    add_moss(next_moss_id_++, l.centre, sp, l.face, 0);
   }
 }
 
@@ -297,7 +302,7 @@ double MossScenario::fitness_at(int species, double insolation, int face) const 
 }
 
 std::vector<MossRecord> MossScenario::gather_mosses() const {
-  constexpr int kW = 10;
+  constexpr int kW = 11;
   std::vector<double> mine;
   mine.reserve(kW * set_->n_owned());
   for (std::size_t i = 0; i < set_->n_owned(); ++i) {
@@ -305,7 +310,7 @@ std::vector<MossRecord> MossScenario::gather_mosses() const {
     mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z,
                              double(set_->u64(u_species_)[i]), double(set_->u64(u_face_)[i]),
                              set_->real(a_gmoss_)[i], set_->real(a_gmax_)[i], set_->real(a_age_)[i],
-                             set_->real(a_s_)[i]});
+                             set_->real(a_s_)[i], double(set_->u64(u_layer_)[i])});
   }
   const int P = decomp_->size();
   int cnt = static_cast<int>(mine.size());
@@ -326,7 +331,8 @@ std::vector<MossRecord> MossScenario::gather_mosses() const {
                    all[k + 6],
                    all[k + 7],
                    all[k + 8],
-                   all[k + 9]});
+                   all[k + 9],
+                   static_cast<int>(all[k + 10])});
   std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.id < b.id; });
   return out;
 }
@@ -434,7 +440,7 @@ void MossScenario::germinate(const std::vector<MossRecord>& all) {
     taken.push_back(s.x);
     ++live;
     ++counts_.germinated;
-    add_moss(next_moss_id_++, s.x, s.species, s.face);
+    add_moss(next_moss_id_++, s.x, s.species, s.face, s.layer);
   }
   seeds_.swap(keep);
 }
@@ -479,8 +485,9 @@ void MossScenario::grow_and_reproduce(const std::vector<MossRecord>& all) {
   for (std::size_t k = 0; k < set_->n_total(); ++k) near.add(set_->pos(k), k);
   const double pr2 = patch_radius_ * patch_radius_;
   std::vector<Vec3> centres(all.size());
-  std::vector<int> faces(all.size());
-  for (std::size_t k = 0; k < all.size(); ++k) centres[k] = all[k].x, faces[k] = all[k].face;
+  std::vector<int> faces(all.size()), layers(all.size());
+  for (std::size_t k = 0; k < all.size(); ++k)
+    centres[k] = all[k].x, faces[k] = all[k].face, layers[k] = all[k].layer;
   // One record per seed made: parent id, index, kind, species, face (-1: lost), centre.
   std::vector<double> mine;
   for (std::size_t i = 0; i < set_->n_owned(); ++i) {
@@ -503,10 +510,12 @@ void MossScenario::grow_and_reproduce(const std::vector<MossRecord>& all) {
           is_spore ? mm::spore_direction(normal_[face], rng) : mm::gemma_direction(rng);
       Vec3 b = x + dir * (is_spore ? spore_distance_ : gemma_distance_);  // (3.22), (3.23)
       b += noise_.offset(b);
-      const auto l = mm::drop_seed(*tracer_, normal_, centres, faces, b, size_);
-      mine.insert(mine.end(), {std::bit_cast<double>(id), double(k), is_spore ? 1.0 : 0.0,
-                               double(sp), l ? double(l->face) : -1.0, l ? l->centre.x : 0.0,
-                               l ? l->centre.y : 0.0, l ? l->centre.z : 0.0});
+      const auto l =
+          mm::drop_seed(*tracer_, normal_, centres, faces, layers, max_layers_, b, size_);
+      mine.insert(mine.end(),
+                  {std::bit_cast<double>(id), double(k), is_spore ? 1.0 : 0.0, double(sp),
+                   l ? double(l->face) : -1.0, l ? l->centre.x : 0.0, l ? l->centre.y : 0.0,
+                   l ? l->centre.z : 0.0, l ? double(l->layer) : 0.0});
     }
   }
   set_->clear_ghosts();
@@ -516,7 +525,7 @@ void MossScenario::grow_and_reproduce(const std::vector<MossRecord>& all) {
 }
 
 void MossScenario::settle_new_seeds(std::vector<double>& mine) {
-  constexpr int kW = 8;
+  constexpr int kW = 9;
   const int P = decomp_->size();
   int cnt = static_cast<int>(mine.size());
   std::vector<int> counts(P), displs(P);
@@ -532,12 +541,12 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
     return std::pair{std::bit_cast<core::GlobalId>(all[kW * k]), all[kW * k + 1]};
   };
   std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
-  auto push = [&](int kind, int species, int face, const Vec3& x) {
+  auto push = [&](int kind, int species, int face, const Vec3& x, int layer) {
     if (static_cast<long long>(seeds_.size()) >= max_seeds_) {
       ++counts_.dropped;
       return;
     }
-    seeds_.push_back({next_seed_id_++, kind, species, face, x, day_});
+    seeds_.push_back({next_seed_id_++, kind, species, face, x, day_, layer});
     ++counts_.landed;
   };
   for (std::size_t k : order) {
@@ -546,8 +555,8 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
       ++counts_.lost;
       continue;
     }
-    push(static_cast<int>(r[2]), static_cast<int>(r[3]), static_cast<int>(r[4]),
-         {r[5], r[6], r[7]});
+    push(static_cast<int>(r[2]), static_cast<int>(r[3]), static_cast<int>(r[4]), {r[5], r[6], r[7]},
+         static_cast<int>(r[8]));
   }
   // One spore from outside every interval days (spec 2.4), placed like the initial mosses.
   if (outside_interval_ > 0 && (day_ + 1) % outside_interval_ == 0) {
@@ -556,7 +565,7 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
     const mm::SurfaceSampler sampler(mesh_.vertices, mesh_.triangles, normal_);
     const mm::Landing l = sampler.sample(rng, size_);
     ++counts_.outside;
-    push(1, sp, l.face, l.centre);
+    push(1, sp, l.face, l.centre, 0);
   }
   total_seeds_lost_ += counts_.lost;
 }

@@ -34,6 +34,7 @@ struct MossRecord {
   core::Vec3 x{};
   int species = 0, face = 0;
   double g_moss = 0, g_max = 0, age = 0, insolation = 0;
+  int layer = 0;  ///< 0 on the soil, k + 1 on a moss of layer k
 };
 
 /// \brief A landed gemma or spore that has not germinated (replicated on every rank).
@@ -43,6 +44,7 @@ struct MossSeed {
   int species = 0, face = 0;
   core::Vec3 x{};
   long long born = 0;  ///< day it was created
+  int layer = 0;
 };
 
 /// \brief Counters of one day (identical on every rank).
@@ -90,7 +92,7 @@ class MossScenario : public Scenario {
   void load_terrain();
   void place_initial();
   int region_of(const core::Vec3& x) const;
-  void add_moss(core::GlobalId id, const core::Vec3& x, int species, int face);
+  void add_moss(core::GlobalId id, const core::Vec3& x, int species, int face, int layer);
   void photon_and_soil(const std::vector<MossRecord>& all);
   void germinate(const std::vector<MossRecord>& all);
   void grow_and_reproduce(const std::vector<MossRecord>& all);
@@ -127,7 +129,7 @@ class MossScenario : public Scenario {
   double size_ = 0.01, moss_reflectance_ = 0.2;
   double gemma_distance_ = 0.02, spore_distance_ = 0.05;
   double patch_radius_ = 0.015;
-  int patch_inside_ = 8;
+  int patch_inside_ = 8, max_layers_ = 3;
   long long max_mosses_ = 16384, max_seeds_ = 65536;
   long long outside_interval_ = 10;
   core::GlobalId next_moss_id_ = 0, next_seed_id_ = 0;
@@ -136,7 +138,7 @@ class MossScenario : public Scenario {
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
   std::unique_ptr<particles::ParticleSet> set_;
-  int a_gmoss_ = 0, a_gmax_ = 0, a_age_ = 0, a_s_ = 0, u_species_ = 0, u_face_ = 0;
+  int a_gmoss_ = 0, a_gmax_ = 0, a_age_ = 0, a_s_ = 0, u_species_ = 0, u_face_ = 0, u_layer_ = 0;
   std::vector<MossSeed> seeds_;
   std::vector<double> seed_s_;  // today's S at each seed (same order as seeds_)
   std::vector<double> moss_s_;  // today's S at each moss of the day's gathered list

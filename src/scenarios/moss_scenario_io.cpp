@@ -66,7 +66,7 @@ void MossScenario::write_output() {
   io::ParticleData d;
   const std::size_t no = set_->n_owned();
   d.owned = no;
-  std::vector<double> species(no), gm(no), age(no), s(no), rot(no), region(no);
+  std::vector<double> species(no), gm(no), age(no), s(no), rot(no), region(no), layer(no);
   for (std::size_t i = 0; i < no; ++i) {
     const Vec3 x = set_->pos(i);
     d.positions.insert(d.positions.end(), {x.x, x.y, x.z});
@@ -76,13 +76,15 @@ void MossScenario::write_output() {
     age[i] = set_->real(a_age_)[i];
     s[i] = set_->real(a_s_)[i];
     region[i] = region_of(x);
+    layer[i] = static_cast<double>(set_->u64(u_layer_)[i]);
     // The paper turns each moss model at random (2.9): a fixed angle per moss, by its id.
     core::Rng r(seed_, set_->id(i), 0, core::RngPurpose::kMoss);
     rot[i] = r.uniform(0, 360);
   }
   d.scalars = {{"species", std::move(species)}, {"G_moss", std::move(gm)},
                {"age", std::move(age)},         {"S", std::move(s)},
-               {"rotation", std::move(rot)},    {"region", std::move(region)}};
+               {"rotation", std::move(rot)},    {"region", std::move(region)},
+               {"layer", std::move(layer)}};
   // The terrain with the day's soil state per face (replicated; written by rank 0).
   auto& t = d.surface;
   if (decomp_->rank() == 0) {
@@ -118,7 +120,7 @@ void MossScenario::write_checkpoint(const std::string& path) {
   std::vector<double> seeds;  // exact in doubles: ids, days and faces < 2^53
   for (const auto& s : seeds_)
     seeds.insert(seeds.end(), {double(s.id), double(s.kind), double(s.species), double(s.face),
-                               s.x.x, s.x.y, s.x.z, double(s.born)});
+                               s.x.x, s.x.y, s.x.z, double(s.born), double(s.layer)});
   w.write_replicated("moss_seeds", seeds.empty() ? std::vector<double>{-1.0} : seeds);
   w.write_replicated("moss_bucket", bucket_);
   w.write_replicated("moss_face_state", [&] {
@@ -151,13 +153,14 @@ void MossScenario::read_checkpoint(const std::string& path) {
   pcomm_->redistribute(*set_);
   seeds_.clear();
   const auto sv = r.read_replicated("moss_seeds");
-  for (std::size_t k = 0; k + 8 <= sv.size(); k += 8)
+  for (std::size_t k = 0; k + 9 <= sv.size(); k += 9)
     seeds_.push_back({static_cast<core::GlobalId>(sv[k]),
                       static_cast<int>(sv[k + 1]),
                       static_cast<int>(sv[k + 2]),
                       static_cast<int>(sv[k + 3]),
                       {sv[k + 4], sv[k + 5], sv[k + 6]},
-                      std::llround(sv[k + 7])});
+                      std::llround(sv[k + 7]),
+                      static_cast<int>(sv[k + 8])});
   const auto b = r.read_replicated("moss_bucket");
   const std::size_t nf = centroid_.size();
   const auto fs = r.read_replicated("moss_face_state");

@@ -19,16 +19,19 @@ std::vector<Vec3> face_normals(const std::vector<Vec3>& v,
 
 std::optional<Landing> drop_seed(const PhotonTracer& tracer, const std::vector<Vec3>& normals,
                                  const std::vector<Vec3>& moss_centres,
-                                 const std::vector<int>& moss_faces, const Vec3& start,
-                                 double size) {
+                                 const std::vector<int>& moss_faces,
+                                 const std::vector<int>& moss_layers, int max_layers,
+                                 const Vec3& start, double size) {
   const auto hit = tracer.cast(start, {0, -1, 0});
   if (!hit) return std::nullopt;  // fell past the terrain
   Landing l;
   if (hit->geometry == 1) {  // a moss box: only its top face holds a seed
     const std::size_t m = hit->primitive;
-    if (!(hit->x.y > moss_centres[m].y)) return std::nullopt;  // from inside the box
+    if (!(hit->x.y > moss_centres[m].y)) return std::nullopt;   // from inside the box
+    if (moss_layers[m] + 1 >= max_layers) return std::nullopt;  // rolls off the top layer
     l.face = moss_faces[m];
     l.on_moss = true;
+    l.layer = moss_layers[m] + 1;
   } else {
     const Vec3& n = normals[hit->primitive];
     if (!(n.y > 0)) return std::nullopt;  // back face (erratum 26)

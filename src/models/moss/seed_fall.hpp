@@ -21,6 +21,7 @@ struct Landing {
   Vec3 centre;
   int face = -1;
   bool on_moss = false;
+  int layer = 0;  ///< 0 on the soil, k + 1 on a moss of layer k
 };
 
 /// \brief Outward unit normal (right-hand rule, counter-clockwise vertices as in OBJ) per
@@ -33,11 +34,14 @@ std::vector<Vec3> face_normals(const std::vector<Vec3>& vertices,
 /// the front of a terrain face (n_y > 0) or the top of a moss box; disappears (nullopt) if it hits
 /// nothing, a back face (n . (0, -1, 0) >= 0: undersides, and vertical faces it would slide off),
 /// or a moss box from inside. `moss_faces[i]` is the terrain face of moss i of the tracer's moss
-/// list (a moss on moss uses the soil of the moss below it), `moss_centres[i]` its centre.
+/// list (a moss on moss uses the soil of the moss below it), `moss_centres[i]` its centre and
+/// `moss_layers[i]` its layer. A seed landing on a moss of layer max_layers - 1 rolls off and is
+/// lost (a moss carpet is at most max_layers models thick; without this, towers grew).
 std::optional<Landing> drop_seed(const PhotonTracer& tracer, const std::vector<Vec3>& normals,
                                  const std::vector<Vec3>& moss_centres,
-                                 const std::vector<int>& moss_faces, const Vec3& start,
-                                 double size);
+                                 const std::vector<int>& moss_faces,
+                                 const std::vector<int>& moss_layers, int max_layers,
+                                 const Vec3& start, double size);
 
 /// \brief Random points on the upward faces (n_y > 0) of the terrain, uniform by area: the
 /// initial placement and the spores from outside (spec 2.4: "random positions on the polygon

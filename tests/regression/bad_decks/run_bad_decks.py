@@ -33,6 +33,17 @@ dir = "{out}/ckpt"
 size = 4
 """
 
+MOSS = """scenario = "moss"
+[run]
+steps = 2
+[output]
+dir = "{out}"
+[checkpoint]
+dir = "{out}/ckpt"
+[moss.terrain]
+file = "%s"
+""" % os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input", "moss", "scene.obj")
+
 # (name, deck text or None for a missing file, extra args, substring the message must contain
 #  [, MPI ranks, default 2])
 CASES = [
@@ -78,6 +89,12 @@ CASES = [
     # Issue 8: a grid too large for the machine: one line, needed vs available (was bad_alloc).
     ("grid too large", GOOD, ["--set", "lbm.nx=100000", "--set", "lbm.ny=100000", "--set", "lbm.nz=100000"],
      "lbm.nx x lbm.ny x lbm.nz = 100000 x 100000 x 100000 cells (D3Q15) need about"),
+    # Issue 10: the moss scenario's terrain and weather keys.
+    ("moss terrain missing", MOSS, ["--set", 'moss.terrain.file="/nonexistent/terrain.obj"'],
+     "moss.terrain.file = \"/nonexistent/terrain.obj\" cannot be used"),
+    ("moss sunshine above possible", MOSS, ["--set", "moss.weather.sunshine=9.0"], "moss.weather.sunshine"),
+    ("moss soil reflectance above 1", MOSS, ["--set", "moss.soil.reflectance=[0.2, 1.5, 0.2]"],
+     "moss.soil.reflectance"),
     ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
      "run.progress_interval"),
 ]
