@@ -341,10 +341,7 @@ void MossScenario::step() {
   if (!csv_open_) open_csv(false);
   counts_ = {};
   const auto all = gather_mosses();
-  {
-    auto scope = ctx_.timers.scope("light_soil");
-    photon_and_soil(all);
-  }
+  photon_and_soil(all);
   {
     auto scope = ctx_.timers.scope("moss");
     germinate(all);
@@ -362,7 +359,14 @@ void MossScenario::photon_and_soil(const std::vector<MossRecord>& all) {
   // every rank builds the same BVH).
   std::vector<Vec3> pos(all.size());
   for (std::size_t i = 0; i < all.size(); ++i) pos[i] = all[i].x;
-  tracer_->set_mosses(pos, size_, moss_reflectance_);
+  {
+    auto scope = ctx_.timers.scope("scene");
+    if (!scene_built_ || pos != scene_mosses_) {  // unchanged at the cap in a constant climate
+      tracer_->set_mosses(pos, size_, moss_reflectance_);
+      scene_mosses_ = pos;
+      scene_built_ = true;
+    }
+  }
   std::vector<Vec3> q = centroid_;
   q.insert(q.end(), pos.begin(), pos.end());
   for (const auto& s : seeds_) q.push_back(s.x);
@@ -373,6 +377,9 @@ void MossScenario::photon_and_soil(const std::vector<MossRecord>& all) {
   std::copy(S.begin(), S.begin() + nf, face_s_.begin());
   moss_s_.assign(S.begin() + nf, S.begin() + nf + nm);
   seed_s_.assign(S.begin() + nf + nm, S.end());
+  ctx_.timers.add("photon_trace", last_map_.trace_seconds);
+  ctx_.timers.add("photon_map", last_map_.map_seconds);
+  auto scope = ctx_.timers.scope("soil");
   // 2. Soil state per face (replicated): (3.5) with m = mosses within ch_radius of the centroid.
   PointGrid grid{ch_radius_, {}};
   for (std::size_t i = 0; i < nm; ++i) grid.add(pos[i], i);

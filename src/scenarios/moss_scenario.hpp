@@ -147,6 +147,8 @@ class MossScenario : public Scenario {
   io::CsvSeries csv_;
   bool csv_open_ = false;
   models::moss::PhotonMapStats last_map_{};
+  std::vector<core::Vec3> scene_mosses_;  // the mosses in the tracer's scene
+  bool scene_built_ = false;
 };
 
 }  // namespace biota::scenarios

@@ -204,7 +204,8 @@ std::string MossScenario::progress() {
 }
 
 std::vector<std::string> MossScenario::timer_sections() const {
-  return {"setup", "light_soil", "moss", "stats", "output", "checkpoint"};
+  return {"setup", "scene", "photon_trace", "photon_map", "soil",
+          "moss",  "stats", "output",       "checkpoint"};
 }
 
 }  // namespace biota::scenarios
