@@ -297,6 +297,18 @@ int MossScenario::region_of(const Vec3& x) const {
   return x.z < back_z_ ? 0 : 1;
 }
 
+bool MossScenario::may_germinate(const MossSeed& s) const {
+  // (3.17) is at most the product of the factors' largest values 1/2 + 2^-n (erratum 17: the
+  // smallest, 1/2 - 2^-n, is never larger in magnitude), so G g(L) <= bound g(L); a seed with
+  // bound g(L) <= τ_b fails (3.24) today for any S, T_s and rh_s.
+  const auto& sp = species_[s.species];
+  const double bound = (0.5 + std::pow(2.0, -sp.n_t)) * (0.5 + std::pow(2.0, -sp.n_rh)) *
+                       (0.5 + std::pow(2.0, -sp.n_s));
+  const auto w = s.kind == 0 ? mm::kGemmaWindow : mm::kSporeWindow;
+  const double L = static_cast<double>(day_ - s.born);
+  return L <= w.l1 && bound * mm::factor_fitness(L, w.l0, w.l1, 1.0) > sp.tau_b;
+}
+
 double MossScenario::fitness_at(int species, double insolation, int face) const {
   return mm::fitness(species_[species], face_ts_[face], face_rhs_[face], insolation);
 }
@@ -369,7 +381,13 @@ void MossScenario::photon_and_soil(const std::vector<MossRecord>& all) {
   }
   std::vector<Vec3> q = centroid_;
   q.insert(q.end(), pos.begin(), pos.end());
-  for (const auto& s : seeds_) q.push_back(s.x);
+  // Seeds that cannot germinate today whatever their S (the bound of may_germinate) need no S.
+  seed_query_.assign(seeds_.size(), -1);
+  for (std::size_t j = 0; j < seeds_.size(); ++j)
+    if (may_germinate(seeds_[j])) {
+      seed_query_[j] = static_cast<long long>(q.size() - centroid_.size() - pos.size());
+      q.push_back(seeds_[j].x);
+    }
   const auto S =
       photon_map_->insolation(*tracer_, light_, sphere_, seed_, static_cast<std::uint64_t>(day_),
                               map_settings_, q, &last_map_);
@@ -424,8 +442,9 @@ void MossScenario::germinate(const std::vector<MossRecord>& all) {
       ++counts_.expired;
       continue;
     }
-    const double g = fitness_at(s.species, seed_s_[j], s.face);
-    if (!mm::germinates(species_[s.species], g, L, w)) {
+    const bool can = seed_query_[j] >= 0;
+    if (!can || !mm::germinates(species_[s.species],
+                                fitness_at(s.species, seed_s_[seed_query_[j]], s.face), L, w)) {
       keep.push_back(s);
       continue;
     }
