@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/memory.hpp"
 #include "models/moss/life_cycle.hpp"
 #include "models/moss/soil_depth.hpp"
 
@@ -152,6 +153,23 @@ MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
   outside_interval_ = c.get_int("moss.outside_spore_interval");
   back_z_ = c.get_real("moss.region.back_z");
   roof_y_ = c.get_real("moss.region.roof_y");
+  {
+    // Replicated: seeds (~80 B), the day's moss list and scene (~400 B per moss: record, 8
+    // vertices + 6 quads in Embree, BVH), photon-map queries (~40 B per point); per rank: the
+    // stored hits (<= 1 / (1 - ρ_max) per photon, ~150 B each with ghosts and kd-tree).
+    int ranks = 1;
+    MPI_Comm_size(ctx.comm, &ranks);
+    const double photons = static_cast<double>(c.get_int("moss.light.photons"));
+    double rmax = c.get_real("moss.reflectance");
+    for (double r : c.get_real_list("moss.soil.reflectance")) rmax = std::max(rmax, r);
+    core::check_memory(
+        ctx.comm, c,
+        {{"seeds", 120.0 * double(max_seeds_)},
+         {"mosses and scene", 440.0 * double(max_mosses_)},
+         {"photon hits", 150.0 * photons / std::max(0.02, 1 - rmax) / ranks}},
+        fmt::format("moss.max_mosses = {}, moss.max_seeds = {}, moss.light.photons = {}",
+                    max_mosses_, max_seeds_, photons));
+  }
   species_ = mm::paper_species();
   for (int k = 0; k < 3; ++k)
     if (c.get_bool(kSpeciesKeys[k])) species_enabled_.push_back(k);

@@ -141,9 +141,9 @@ class MossScenario : public Scenario {
   std::unique_ptr<particles::ParticleSet> set_;
   int a_gmoss_ = 0, a_gmax_ = 0, a_age_ = 0, a_s_ = 0, u_species_ = 0, u_face_ = 0, u_layer_ = 0;
   std::vector<MossSeed> seeds_;
-  std::vector<double> seed_s_;          // today's S at the seeds that may germinate
+  std::vector<double> seed_s_;         // today's S at the seeds that may germinate
   std::vector<long long> seed_query_;  // per seed: index into seed_s_, -1 if it cannot germinate
-  std::vector<double> moss_s_;  // today's S at each moss of the day's gathered list
+  std::vector<double> moss_s_;         // today's S at each moss of the day's gathered list
   MossDayCounts counts_;
   long long total_seeds_lost_ = 0;
   io::CsvSeries csv_;
