@@ -11,7 +11,8 @@ import os
 import sys
 
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
-                             OpenDataFile, Render, SaveScreenshot, Show, UpdatePipeline)
+                             GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show,
+                             UpdatePipeline)
 
 out_dir, png = sys.argv[1], sys.argv[2]
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
@@ -40,6 +41,11 @@ slut = GetColorTransferFunction("S")
 slut.ApplyPreset("Inferno (matplotlib)", True)
 slut.RescaleTransferFunction(0.0, 120.0)
 td.SetScalarBarVisibility(view, True)
+bar = GetScalarBar(slut, view)
+bar.Title = "S [W/m^2]"
+bar.ComponentTitle = ""
+bar.TitleColor = [0, 0, 0]
+bar.LabelColor = [0, 0, 0]
 
 mosses = OpenDataFile(os.path.join(out_dir, "moss.pvd"))
 UpdatePipeline(time=t, proxy=mosses)
