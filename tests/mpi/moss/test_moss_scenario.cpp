@@ -26,7 +26,7 @@ core::ConfigSchema schema() {
 }
 
 // The paper's scene at reduced photon count; many initial mosses and a short outside-spore
-// interval so that 2 x 12 days see deaths, gemmae, spores (day 0 is a rain day), moss on moss,
+// interval so that 2 x 12 days see deaths, gemmae, moss on moss,
 // germination and occupied spots.
 const char* kDeck = R"(
 scenario = "moss"
