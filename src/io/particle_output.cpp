@@ -139,12 +139,14 @@ void ParticleOutput::write(const ParticleData& d) {
     if (ncomp > 1) g.push_back(ncomp), o.push_back(0), c.push_back(ncomp);
     h5::write_block(file, name, g, o, c, static_cast<const double*>(data), type);
   };
-  write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
-  write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
-  for (const auto& [name, v] : d.scalars)
-    write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
-  for (const auto& [name, v] : d.vectors)
-    write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+  if (p_tot > 0) {  // none at all (a moss population that died out): no /points datasets
+    write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
+    write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
+    for (const auto& [name, v] : d.scalars)
+      write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
+    for (const auto& [name, v] : d.vectors)
+      write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+  }
   if (l_tot > 0) {  // a zero-size global dataset cannot be written (point clouds have no lines)
     std::vector<double> lpos(6 * nl);
     std::vector<std::uint64_t> lids(2 * nl), conn(2 * nl);

@@ -277,6 +277,11 @@ void MossScenario::load_terrain() {
     for (int d = 0; d < 3; ++d) lo_[d] = std::min(lo_[d], v[d]), hi_[d] = std::max(hi_[d], v[d]);
   tracer_ = std::make_unique<mm::PhotonTracer>(mesh_.vertices, mesh_.triangles, reflect_);
   depth_mm_ = mm::soil_depth_mm(*tracer_, mesh_.vertices, mesh_.triangles);
+  sampler_ = std::make_unique<mm::SurfaceSampler>(mesh_.vertices, mesh_.triangles, normal_);
+  if (!(sampler_->area() > 0))
+    c.fail("moss.terrain.file",
+           "has no upward face (outward normal with y > 0; is `moss.terrain.up` right?): no place "
+           "for a moss to stand");
 }
 
 void MossScenario::add_moss(core::GlobalId id, const Vec3& x, int species, int face, int layer) {
@@ -289,7 +294,7 @@ void MossScenario::add_moss(core::GlobalId id, const Vec3& x, int species, int f
 
 void MossScenario::place_initial() {
   // Replicated: every rank draws every placement and keeps the ones it owns.
-  const mm::SurfaceSampler sampler(mesh_.vertices, mesh_.triangles, normal_);
+  const mm::SurfaceSampler& sampler = *sampler_;
   const long long n = ctx_.config.get_int("moss.initial");
   PointGrid grid{size_, {}};
   std::vector<Vec3> placed;
@@ -606,8 +611,7 @@ void MossScenario::settle_new_seeds(std::vector<double>& mine) {
   if (outside_interval_ > 0 && (day_ + 1) % outside_interval_ == 0) {
     core::Rng rng(seed_, kOutsideStream, static_cast<std::uint64_t>(day_), core::RngPurpose::kMoss);
     const int sp = species_enabled_[rng.uniform_int(0, std::ssize(species_enabled_) - 1)];
-    const mm::SurfaceSampler sampler(mesh_.vertices, mesh_.triangles, normal_);
-    const mm::Landing l = sampler.sample(rng, size_);
+    const mm::Landing l = sampler_->sample(rng, size_);
     ++counts_.outside;
     push(1, sp, l.face, l.centre, 0);
   }

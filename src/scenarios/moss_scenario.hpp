@@ -111,6 +111,7 @@ class MossScenario : public Scenario {
   std::vector<models::moss::Vec3> centroid_, normal_;
   std::vector<double> reflect_, depth_mm_;
   std::unique_ptr<models::moss::PhotonTracer> tracer_;
+  std::unique_ptr<models::moss::SurfaceSampler> sampler_;  // upward faces, by area
   std::unique_ptr<models::moss::PhotonMap> photon_map_;
   models::moss::BoundingSphere sphere_;
   models::moss::SquareLight light_;

@@ -116,7 +116,10 @@ void MossScenario::write_checkpoint(const std::string& path) {
   const int width = set_->pack_width(false);
   std::vector<double> rows;
   for (std::size_t i = 0; i < set_->n_owned(); ++i) set_->pack(i, false, rows);
-  w.write_rows("moss_mosses", rows, width);
+  long long live = static_cast<long long>(set_->n_owned());
+  MPI_Allreduce(MPI_IN_PLACE, &live, 1, MPI_LONG_LONG, MPI_SUM, ctx_.comm);
+  w.write_attribute("moss_live", static_cast<std::int64_t>(live));
+  if (live > 0) w.write_rows("moss_mosses", rows, width);  // no empty datasets in HDF5
   std::vector<double> seeds;  // exact in doubles: ids, days and faces < 2^53
   for (const auto& s : seeds_)
     seeds.insert(seeds.end(), {double(s.id), double(s.kind), double(s.species), double(s.face),
@@ -143,8 +146,9 @@ void MossScenario::read_checkpoint(const std::string& path) {
   next_moss_id_ = static_cast<core::GlobalId>(r.read_attribute_int("moss_next_moss_id"));
   next_seed_id_ = static_cast<core::GlobalId>(r.read_attribute_int("moss_next_seed_id"));
   total_seeds_lost_ = r.read_attribute_int("moss_seeds_lost");
-  int width = 0;
-  auto rows = r.read_rows_share("moss_mosses", width);
+  int width = set_->pack_width(false);
+  std::vector<double> rows;
+  if (r.read_attribute_int("moss_live") > 0) rows = r.read_rows_share("moss_mosses", width);
   if (width != set_->pack_width(false))
     throw core::InputError(path + ": checkpoint moss layout differs");
   const std::size_t n = rows.size() / width;
