@@ -57,6 +57,9 @@ struct MossDayCounts {
 class MossScenario : public Scenario {
  public:
   static void declare_config(core::ConfigSchema& schema);
+  /// \brief The deck keys switching the species of Table 4.2 on and off, in species order.
+  static constexpr const char* kSpeciesKeys[3] = {"moss.species.bryum", "moss.species.hypnum",
+                                                  "moss.species.polytrichum"};
   explicit MossScenario(const RunContext& ctx);
   ~MossScenario() override;
 
