@@ -49,6 +49,49 @@ void check_sizes(const ParticleData& d) {
   for (const auto& [name, v] : d.line_scalars)
     if (v.size() != d.lines.size())
       throw std::logic_error("ParticleOutput: line scalar " + name + " has wrong size");
+  const auto& t = d.surface;
+  if (t.positions.size() % 3 != 0 || t.triangles.size() % 3 != 0)
+    throw std::logic_error("ParticleOutput: surface arrays are not triples");
+  for (const auto v : t.triangles)
+    if (v >= t.positions.size() / 3)
+      throw std::logic_error("ParticleOutput: surface vertex index out of range");
+  for (const auto& [name, v] : t.cell_scalars)
+    if (!v.empty() && v.size() != t.triangles.size() / 3)
+      throw std::logic_error("ParticleOutput: surface scalar " + name + " has wrong size");
+}
+
+// The surface as VTK PolyData (triangles, cell scalars); rank 0.
+void write_surface_vtp(const SurfaceData& t, const std::string& path) {
+  vtkNew<vtkPolyData> poly;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  const std::size_t nv = t.positions.size() / 3, nt = t.triangles.size() / 3;
+  pts->SetNumberOfPoints(static_cast<vtkIdType>(nv));
+  for (std::size_t i = 0; i < nv; ++i)
+    pts->SetPoint(static_cast<vtkIdType>(i), t.positions[3 * i], t.positions[3 * i + 1],
+                  t.positions[3 * i + 2]);
+  poly->SetPoints(pts);
+  vtkNew<vtkCellArray> polys;
+  for (std::size_t k = 0; k < nt; ++k) {
+    const vtkIdType abc[3] = {static_cast<vtkIdType>(t.triangles[3 * k]),
+                              static_cast<vtkIdType>(t.triangles[3 * k + 1]),
+                              static_cast<vtkIdType>(t.triangles[3 * k + 2])};
+    polys->InsertNextCell(3, abc);
+  }
+  poly->SetPolys(polys);
+  for (const auto& [name, v] : t.cell_scalars) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfTuples(static_cast<vtkIdType>(nt));
+    std::copy(v.begin(), v.end(), a->GetPointer(0));
+    poly->GetCellData()->AddArray(a);
+  }
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(poly);
+  writer->SetFileName(path.c_str());
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();
+  if (!writer->Write()) throw std::runtime_error("VTK: cannot write " + path);
 }
 
 // Rows [0, rows) of a column-major-by-point array with `ncomp` values per point.
@@ -96,12 +139,14 @@ void ParticleOutput::write(const ParticleData& d) {
     if (ncomp > 1) g.push_back(ncomp), o.push_back(0), c.push_back(ncomp);
     h5::write_block(file, name, g, o, c, static_cast<const double*>(data), type);
   };
-  write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
-  write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
-  for (const auto& [name, v] : d.scalars)
-    write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
-  for (const auto& [name, v] : d.vectors)
-    write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+  if (p_tot > 0) {  // none at all (a moss population that died out): no /points datasets
+    write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
+    write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
+    for (const auto& [name, v] : d.scalars)
+      write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
+    for (const auto& [name, v] : d.vectors)
+      write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+  }
   if (l_tot > 0) {  // a zero-size global dataset cannot be written (point clouds have no lines)
     std::vector<double> lpos(6 * nl);
     std::vector<std::uint64_t> lids(2 * nl), conn(2 * nl);
@@ -117,6 +162,19 @@ void ParticleOutput::write(const ParticleData& d) {
     write_rows("/lines/id", lids.data(), 2, l_off, l_tot, nl, H5T_NATIVE_UINT64);
     for (const auto& [name, v] : d.line_scalars)
       write_rows("/lines/" + name, v.data(), 1, l_off, l_tot, nl);
+  }
+  // Surface: replicated, rank 0's copy (the others write empty blocks).
+  const auto& surf = d.surface;
+  const std::size_t sv = rank == 0 ? surf.positions.size() / 3 : 0;
+  const std::size_t st = rank == 0 ? surf.triangles.size() / 3 : 0;
+  const auto [sv_off, sv_tot] = offset_and_total(comm_, sv);
+  const auto [st_off, st_tot] = offset_and_total(comm_, st);
+  if (st_tot > 0) {
+    write_rows("/surface/position", surf.positions.data(), 3, sv_off, sv_tot, sv);
+    write_rows("/surface/triangles", surf.triangles.data(), 3, st_off, st_tot, st,
+               H5T_NATIVE_UINT64);
+    for (const auto& [name, v] : surf.cell_scalars)
+      write_rows("/surface/" + name, v.data(), 1, st_off, st_tot, st);
   }
   H5Fclose(file);
 
@@ -206,6 +264,11 @@ void ParticleOutput::write(const ParticleData& d) {
     out << "</PPolyData>\n</VTKFile>\n";
   }
   update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_, "vtk/" + stem + ".pvtp");
+  if (st_tot > 0) {
+    write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
+    update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
+               "vtk/" + stem + "_surface.vtp");
+  }
   {
     std::ofstream out(fs::path(dir_) / (stem + ".xmf"));
     const std::string h5 = stem + ".h5";
@@ -243,6 +306,20 @@ void ParticleOutput::write(const ParticleData& d) {
           l_tot, h5, 2 * l_tot);
       for (const auto& [name, v] : d.line_scalars)
         out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
+      out << "</Grid>\n";
+    }
+    if (st_tot > 0) {
+      out << fmt::format(
+          "<Grid Name=\"surface\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Triangle\" NumberOfElements=\"{0}\">"
+          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 3\">"
+          "{1}:/surface/triangles</DataItem></Topology>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
+          st_tot, h5, sv_tot);
+      for (const auto& [name, v] : surf.cell_scalars)
+        out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
+                              h5 + ":/surface/" + name);
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -7,7 +7,8 @@
 /// Files: <dir>/<prefix>_<step>.h5 (+ .xmf), <dir>/vtk/<prefix>_<step>.pvtp (+ one .vtp per
 /// rank), <dir>/<prefix>.pvd. HDF5 layout: /points/{position,id,<scalars>,<vectors>} with the
 /// owned points in rank order; /lines/{position (2 rows per line), connectivity, id (2 per line),
-/// <line scalars>}.
+/// <line scalars>}; with a surface: /surface/{position, triangles, <cell scalars>}, a third XDMF
+/// grid "surface", and <dir>/vtk/<prefix>_<step>_surface.vtp in <dir>/<prefix>_surface.pvd.
 #include <mpi.h>
 
 #include <array>
@@ -17,6 +18,15 @@
 #include <vector>
 
 namespace biota::io {
+
+/// \brief A triangle surface written with the particles (e.g. the moss terrain with its per-face
+/// soil state). Replicated data: rank 0's copy is written; the other ranks leave `positions` and
+/// `triangles` empty (cell_scalars may be empty there too).
+struct SurfaceData {
+  std::vector<double> positions;         ///< 3 per vertex, SI [m]
+  std::vector<std::uint64_t> triangles;  ///< 3 vertex indices per triangle
+  std::vector<std::pair<std::string, std::vector<double>>> cell_scalars;  ///< 1 per triangle
+};
 
 /// \brief This rank's particles for one output step. Points may include ghost copies when a line
 /// needs both ends; `owned` says how many leading points are owned (only those go to HDF5).
@@ -28,6 +38,7 @@ struct ParticleData {
   std::vector<std::pair<std::string, std::vector<double>>> vectors;  ///< 3 values per point
   std::vector<std::array<std::uint32_t, 2>> lines;  ///< segments between local point indices
   std::vector<std::pair<std::string, std::vector<double>>> line_scalars;  ///< 1 per line
+  SurfaceData surface;  ///< optional; rank 0 only (see SurfaceData)
 };
 
 /// \brief Writes one particle output step. Collective over `comm`.

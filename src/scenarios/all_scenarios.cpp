@@ -1,5 +1,6 @@
 #include "core/error.hpp"
 #include "scenarios/flock_scenario.hpp"
+#include "scenarios/moss_scenario.hpp"
 #include "scenarios/scenario.hpp"
 #include "scenarios/seaweed_scenario.hpp"
 #include "scenarios/tank_scenario.hpp"
@@ -42,6 +43,13 @@ std::vector<ScenarioInfo> all_scenarios() {
        &FlockScenario::declare_config,
        [](const RunContext& c) -> std::unique_ptr<Scenario> {
          return std::make_unique<FlockScenario>(c);
+       }},
+      {"moss",
+       "three moss species spreading over a polygon terrain for 300 days, lit by photon mapping "
+       "(direct + indirect light, mosses as occluders), with a daily soil heat/water balance",
+       &MossScenario::declare_config,
+       [](const RunContext& c) -> std::unique_ptr<Scenario> {
+         return std::make_unique<MossScenario>(c);
        }},
   };
 }

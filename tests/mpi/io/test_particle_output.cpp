@@ -126,3 +126,54 @@ TEST(ParticleOutput, HdfReadBackHasEveryParticleOnce) {
     EXPECT_NE(xs.str().find("Polyline"), std::string::npos);
   }
 }
+
+TEST(ParticleOutput, SurfaceFromRankZeroInTheSameStep) {
+  // A replicated triangle surface (two triangles of a unit square, a cell scalar): rank 0's copy
+  // goes to /surface of the step's HDF5 file, a "surface" grid of its XDMF and a VTK PolyData in
+  // <prefix>_surface.pvd; the other ranks pass it empty.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const std::filesystem::path dir = "particle_surface_np" + std::to_string(size);
+  io::ParticleData d;
+  d.positions = {0.5 + rank, 0.5, 0.5};
+  d.ids = {static_cast<std::uint64_t>(rank)};
+  d.owned = 1;
+  if (rank == 0) {
+    d.surface.positions = {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1};
+    d.surface.triangles = {0, 2, 1, 0, 3, 2};
+    d.surface.cell_scalars = {{"S", {10.0, 20.0}}};
+  } else {
+    d.surface.cell_scalars = {{"S", {}}};
+  }
+  io::ParticleOutput out(MPI_COMM_WORLD, dir.string(), "surf", 3, 1.5, "cfg");
+  out.write(d);
+  MPI_Barrier(MPI_COMM_WORLD);
+  hid_t f = io::h5::open_parallel((dir / "surf_000003.h5").string(), MPI_COMM_WORLD);
+  ASSERT_GE(f, 0);
+  EXPECT_EQ(io::h5::dims_of(f, "/points/id")[0], static_cast<hsize_t>(size));
+  ASSERT_EQ(io::h5::dims_of(f, "/surface/triangles")[0], 2u);
+  ASSERT_EQ(io::h5::dims_of(f, "/surface/position")[0], 4u);
+  std::vector<std::uint64_t> tri(6);
+  std::vector<double> s(2), pos(12);
+  io::h5::read_block(f, "/surface/triangles", {0, 0}, {2, 3}, tri.data(), H5T_NATIVE_UINT64);
+  io::h5::read_block(f, "/surface/S", {0}, {2}, s.data());
+  io::h5::read_block(f, "/surface/position", {0, 0}, {4, 3}, pos.data());
+  H5Fclose(f);
+  EXPECT_EQ(tri, (std::vector<std::uint64_t>{0, 2, 1, 0, 3, 2}));
+  EXPECT_EQ(s, (std::vector<double>{10.0, 20.0}));
+  EXPECT_EQ(pos[6], 1.0);
+  EXPECT_EQ(pos[8], 1.0);
+  if (rank == 0) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "vtk" / "surf_000003_surface.vtp"));
+    std::ifstream pvd(dir / "surf_surface.pvd");
+    std::stringstream ps;
+    ps << pvd.rdbuf();
+    EXPECT_NE(ps.str().find("vtk/surf_000003_surface.vtp"), std::string::npos);
+    std::ifstream xmf(dir / "surf_000003.xmf");
+    std::stringstream xs;
+    xs << xmf.rdbuf();
+    EXPECT_NE(xs.str().find("TopologyType=\"Triangle\" NumberOfElements=\"2\""), std::string::npos);
+    EXPECT_NE(xs.str().find(":/surface/S"), std::string::npos);
+  }
+}

@@ -52,6 +52,17 @@ lsystem = "{tmp}/paper_fig1.lsys"
 derivations = 2
 """
 
+MOSS = """scenario = "moss"
+[run]
+steps = 2
+[output]
+dir = "{out}"
+[checkpoint]
+dir = "{out}/ckpt"
+[moss.terrain]
+file = "%s"
+""" % os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input", "moss", "scene.obj")
+
 # (name, deck text or None for a missing file, extra args, substring the message must contain
 #  [, MPI ranks, default 2])
 CASES = [
@@ -115,6 +126,12 @@ CASES = [
     ("compression without chunks", GOOD, ["--set", "output.compression=3", "--set", "output.chunk=0"],
      "output.compression = 3 needs chunked datasets"),
     ("flock output stride", FLOCK, ["--set", "output.stride=2"], "output.stride = 2 applies to grid fields"),
+    # Issue 10: the moss scenario's terrain and weather keys.
+    ("moss terrain missing", MOSS, ["--set", 'moss.terrain.file="/nonexistent/terrain.obj"'],
+     "moss.terrain.file = \"/nonexistent/terrain.obj\" cannot be used"),
+    ("moss sunshine above possible", MOSS, ["--set", "moss.weather.sunshine=9.0"], "moss.weather.sunshine"),
+    ("moss soil reflectance above 1", MOSS, ["--set", "moss.soil.reflectance=[0.2, 1.5, 0.2]"],
+     "moss.soil.reflectance"),
     ("metrics interval overflow", GOOD, ["--set", "run.progress_interval=9223372036854775807"],
      "run.progress_interval"),
 ]

@@ -1,0 +1,67 @@
+"""Render a snapshot of a moss run (PNG) with ParaView, headless:
+
+    postproc/headless.sh pvpython postproc/render_moss.py <output.dir> <out.png> [index]
+
+Reads <output.dir>/moss_surface.pvd (the terrain, coloured by the day's insolation S in W/m^2,
+cell data) and <output.dir>/moss.pvd (the live mosses, drawn as 1 cm cubes coloured by species:
+0 bryum, 1 hypnum, 2 polytrichum). `index` picks the output day (default: the last). The camera
+looks from the front, above, into the space under the roof at the back.
+"""
+import os
+import sys
+
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
+                             GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show,
+                             UpdatePipeline)
+
+out_dir, png = sys.argv[1], sys.argv[2]
+index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+view = GetActiveViewOrCreate("RenderView")
+view.ViewSize = [1200, 900]
+try:
+    view.UseColorPaletteForBackground = 0
+except AttributeError:
+    pass
+view.Background = [1, 1, 1]
+
+terrain = OpenDataFile(os.path.join(out_dir, "moss_surface.pvd"))
+try:
+    times = [float(v) for v in terrain.TimestepValues]
+except TypeError:
+    times = [float(terrain.TimestepValues)]
+if not times:
+    times = [0.0]
+t = times[index]
+UpdatePipeline(time=t, proxy=terrain)
+view.ViewTime = t
+td = Show(terrain, view)
+td.SetRepresentationType("Surface")
+ColorBy(td, ("CELLS", "S"))
+slut = GetColorTransferFunction("S")
+slut.ApplyPreset("Inferno (matplotlib)", True)
+slut.RescaleTransferFunction(0.0, 120.0)
+td.SetScalarBarVisibility(view, True)
+bar = GetScalarBar(slut, view)
+bar.Title = "S [W/m^2]"
+bar.ComponentTitle = ""
+bar.TitleColor = [0, 0, 0]
+bar.LabelColor = [0, 0, 0]
+
+mosses = OpenDataFile(os.path.join(out_dir, "moss.pvd"))
+UpdatePipeline(time=t, proxy=mosses)
+g = Glyph(Input=mosses, GlyphType="Box")
+g.ScaleArray = ["POINTS", "No scale array"]
+g.ScaleFactor = 0.015  # the 1 cm moss models, drawn 1.5 times larger to be seen
+g.GlyphMode = "All Points"
+gd = Show(g, view)
+ColorBy(gd, ("POINTS", "species"))
+lut = GetColorTransferFunction("species")
+lut.ApplyPreset("Set1", True) if hasattr(lut, "ApplyPreset") else None
+lut.RescaleTransferFunction(0.0, 2.0)
+
+view.CameraPosition = [1.0, 2.6, 4.2]
+view.CameraFocalPoint = [1.0, 0.4, 0.8]
+view.CameraViewUp = [0.0, 1.0, 0.0]
+Render(view)
+SaveScreenshot(png, view, ImageResolution=[1200, 900])
+print("wrote", png, "day", t / 86400.0)
