@@ -279,17 +279,20 @@ void SeaweedBodies::rebuild_lists() {
     if (j < no) lists[j].push_back({set_.id(i), 2, static_cast<std::uint32_t>(m), 1});
   }
   adj_begin_.assign(no + 1, 0);
-  adj_.clear();
+  slot_.assign(2 * (joints_.size() + pairs_.size()), kNoSlot);
+  std::uint32_t k = 0;
   for (std::size_t i = 0; i < no; ++i) {
     auto& l = lists[i];
     std::sort(l.begin(), l.end(), [](const Entry& a, const Entry& b) {
       return a.partner != b.partner ? a.partner < b.partner : a.kind < b.kind;
     });
-    for (const Entry& e : l)
-      adj_.push_back(
-          {static_cast<std::uint32_t>(e.kind == 2 ? joints_.size() + e.index : e.index), e.side});
-    adj_begin_[i + 1] = adj_.size();
+    for (const Entry& e : l) {
+      const std::size_t m = e.kind == 2 ? joints_.size() + e.index : e.index;
+      slot_[2 * m + e.side] = k++;
+    }
+    adj_begin_[i + 1] = k;
   }
+  contrib_.resize(k);
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -330,15 +333,23 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const Real* rad = set_.real(a_radius);
   const std::uint64_t* parent = set_.u64(u_parent);
   Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
-  // Interaction results: [joints..., contacts...], force and torque on each of the two spheres.
-  // Every entry is written below (inactive ones with active = false), so no clearing pass.
-  const std::size_t nj = joints_.size(), ni = nj + pairs_.size();
-  res_.resize(ni);
+  // Interaction results go straight to the summation slots of the owned spheres they act on
+  // (slot_). Every slot is written each sub-step; an inactive interaction writes +0 vectors, which
+  // the sum adds as an exact no-op (the sums start from +0 or a nonzero value and, rounding to
+  // nearest, can never become -0), so this equals skipping it bit for bit.
+  const std::size_t nj = joints_.size();
+  Contrib* out = contrib_.data();
+  const std::uint32_t* slot = slot_.data();
+  auto put = [&](std::size_t m, const Vec3& f0, const Vec3& t0, const Vec3& f1, const Vec3& t1) {
+    if (slot[2 * m] != kNoSlot) out[slot[2 * m]] = {f0, t0};
+    if (slot[2 * m + 1] != kNoSlot) out[slot[2 * m + 1]] = {f1, t1};
+  };
+  const Vec3 zero{};
   // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data.
   for (std::size_t m = 0; m < nj; ++m) {
     const auto [i, j] = joints_[m];
     if (parent[i] != ids[j]) {  // broken since the list was built
-      res_[m].active = false;
+      put(m, zero, zero, zero, zero);
       continue;
     }
     const core::Quat qc{qw[i], qx[i], qy[i], qz[i]}, qp{qw[j], qx[j], qy[j], qz[j]};
@@ -352,7 +363,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     const core::Quat rel = qp.conj() * qc * core::Quat{rw[i], rx[i], ry[i], rz[i]}.conj();
     const Vec3 theta = qp.rotate(rel.rotation_vector());
     const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
-    res_[m] = {F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T, true};
+    put(m, F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T);
     if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
       const Real fm = core::norm(F), tm = core::norm(T);
       jforce[i] = fm;
@@ -367,7 +378,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     const Real dist = core::norm(d), ri = rad[i], rj = rad[j];
     const Real overlap = ri + rj - dist;
     if (overlap <= 0 || dist <= 0) {
-      res_[nj + m].active = false;
+      put(nj + m, zero, zero, zero, zero);
       continue;
     }
     const Vec3 n = d / dist;
@@ -380,7 +391,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     Vec3 ft{};
     if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
     const Vec3 F = n * fn + ft;
-    res_[nj + m] = {F, core::cross(n * (-ri), ft), -F, core::cross(n * rj, -ft), true};
+    put(nj + m, F, core::cross(n * (-ri), ft), -F, core::cross(n * rj, -ft));
   }
   // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
   // order.
@@ -409,10 +420,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (lo > 0 || hi > 0) f = f + fw;
     }
     for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const Result& r = res_[adj_[k].first];
-      if (!r.active) continue;
-      f = f + (adj_[k].second == 0 ? r.f0 : r.f1);
-      t = t + (adj_[k].second == 0 ? r.t0 : r.t1);
+      f = f + out[k].f;
+      t = t + out[k].t;
     }
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];

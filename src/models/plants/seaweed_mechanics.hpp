@@ -97,10 +97,12 @@ class SeaweedBodies {
   int u_plant, u_parent;
 
  private:
-  struct Result {
-    Vec3 f0, t0, f1, t1;  ///< force/torque on the first and on the second sphere
-    bool active = false;
+  /// Force and torque of one interaction on one owned sphere, stored in that sphere's summation
+  /// order (adj_begin_), so the per-sphere sum reads memory in order.
+  struct Contrib {
+    Vec3 f, t;
   };
+  static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
   void compute_forces(Real dt_sub);
   void rebuild_lists();
   bool max_displacement_exceeded() const;    // collective
@@ -112,9 +114,11 @@ class SeaweedBodies {
   particles::ParticleSet set_;
   std::vector<std::pair<std::size_t, std::size_t>> pairs_;    // contacts (lower id, higher id)
   std::vector<std::pair<std::size_t, std::size_t>> joints_;   // (child, parent) local slots
-  std::vector<std::size_t> adj_begin_;                        // CSR over owned spheres
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> adj_;  // (interaction, side)
-  std::vector<Result> res_;
+  std::vector<std::size_t> adj_begin_;  // CSR over owned spheres, into contrib_
+  // Per interaction [joints..., contacts...] and side (0: first sphere, 1: second): its slot in
+  // contrib_, or kNoSlot when that sphere is a ghost.
+  std::vector<std::uint32_t> slot_;
+  std::vector<Contrib> contrib_;
   std::vector<std::size_t> broken_now_;
   std::vector<Vec3> x_build_;  // owned positions at the last list build
   bool built_ = false, need_migrate_ = false;
