@@ -226,9 +226,11 @@ void SeaweedBodies::rebuild_lists() {
   const std::size_t no = set_.n_owned(), nt = set_.n_total();
   x_build_.resize(no);
   for (std::size_t i = 0; i < no; ++i) x_build_[i] = set_.pos(i);
-  slots_.clear();
-  slots_.reserve(nt);
-  for (std::size_t i = 0; i < nt; ++i) slots_.emplace(set_.id(i), i);
+  // (id, slot) of every owned and ghost sphere sorted by id: find_near's lookup (one flat sort
+  // instead of a node-based hash map rebuilt each time).
+  slots_.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i) slots_[i] = {set_.id(i), i};
+  std::sort(slots_.begin(), slots_.end());
   // Every interaction touching an owned sphere is listed here, also when the other sphere is a
   // ghost: both owners evaluate it with identical inputs and each adds it to its own sphere only,
   // so nothing is scattered back and the sum on a sphere never depends on the decomposition.
@@ -261,38 +263,41 @@ void SeaweedBodies::rebuild_lists() {
   }
   skipped_joints_ = skipped;
   // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
-  struct Entry {
-    GlobalId partner;
-    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
-    std::uint32_t index;
-    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
-  };
-  std::vector<std::vector<Entry>> lists(no);
+  // Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
+  adj_begin_.assign(no + 1, 0);
+  for (const auto& [c, p] : joints_) {
+    if (c < no) ++adj_begin_[c + 1];
+    if (p < no) ++adj_begin_[p + 1];
+  }
+  for (const auto& [i, j] : pairs_) {
+    if (i < no) ++adj_begin_[i + 1];
+    if (j < no) ++adj_begin_[j + 1];
+  }
+  for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
+  entries_.resize(adj_begin_[no]);
+  std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
   for (std::size_t m = 0; m < joints_.size(); ++m) {
     const auto [c, p] = joints_[m];
-    if (c < no) lists[c].push_back({set_.id(p), 0, static_cast<std::uint32_t>(m), 0});
-    if (p < no) lists[p].push_back({set_.id(c), 1, static_cast<std::uint32_t>(m), 1});
+    if (c < no) entries_[fill[c]++] = {set_.id(p), 0, static_cast<std::uint32_t>(m), 0};
+    if (p < no) entries_[fill[p]++] = {set_.id(c), 1, static_cast<std::uint32_t>(m), 1};
   }
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
-    if (i < no) lists[i].push_back({set_.id(j), 2, static_cast<std::uint32_t>(m), 0});
-    if (j < no) lists[j].push_back({set_.id(i), 2, static_cast<std::uint32_t>(m), 1});
+    if (i < no) entries_[fill[i]++] = {set_.id(j), 2, static_cast<std::uint32_t>(m), 0};
+    if (j < no) entries_[fill[j]++] = {set_.id(i), 2, static_cast<std::uint32_t>(m), 1};
   }
-  adj_begin_.assign(no + 1, 0);
   slot_.assign(2 * (joints_.size() + pairs_.size()), kNoSlot);
-  std::uint32_t k = 0;
   for (std::size_t i = 0; i < no; ++i) {
-    auto& l = lists[i];
-    std::sort(l.begin(), l.end(), [](const Entry& a, const Entry& b) {
-      return a.partner != b.partner ? a.partner < b.partner : a.kind < b.kind;
+    const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
+    std::sort(b, e, [](const Entry& x, const Entry& y) {
+      return x.partner != y.partner ? x.partner < y.partner : x.kind < y.kind;
     });
-    for (const Entry& e : l) {
-      const std::size_t m = e.kind == 2 ? joints_.size() + e.index : e.index;
-      slot_[2 * m + e.side] = k++;
+    for (auto it = b; it != e; ++it) {
+      const std::size_t m = it->kind == 2 ? joints_.size() + it->index : it->index;
+      slot_[2 * m + it->side] = static_cast<std::uint32_t>(it - entries_.begin());
     }
-    adj_begin_[i + 1] = k;
   }
-  contrib_.resize(k);
+  contrib_.resize(entries_.size());
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -300,10 +305,10 @@ void SeaweedBodies::sample_fluid(const VelocityFn& u) {
 }
 
 std::size_t SeaweedBodies::find_near(GlobalId id, const Vec3& near) const {
-  auto [b, e] = slots_.equal_range(id);
+  auto it = std::lower_bound(slots_.begin(), slots_.end(), std::pair<GlobalId, std::size_t>{id, 0});
   std::size_t best = SIZE_MAX;
   Real bd = 1e300;
-  for (auto it = b; it != e; ++it) {
+  for (; it != slots_.end() && it->first == id; ++it) {
     const Vec3 d = set_.pos(it->second) - near;
     const Real r2 = core::dot(d, d);
     if (r2 < bd) bd = r2, best = it->second;
@@ -446,11 +451,19 @@ void SeaweedBodies::advance(Real dt) {
       int flag = local_displacement_exceeded();
       MPI_Request req;
       MPI_Iallreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm(), &req);
-      comm_.update_ghosts(set_);
+      // Only the state that changes inside a step travels: position, velocity, orientation,
+      // angular velocity and the parent id (a break). Joint rest data, radius, plant never change
+      // and the drag impulse and sampling point are needed on ghosts only after the step (the
+      // full refresh at its end).
+      comm_.update_ghosts(set_, {ParticleSet::kPos, a_vel, a_quat, a_omega}, {u_parent});
       MPI_Wait(&req, MPI_STATUS_IGNORE);
-      if (flag != 0) {  // skin used up inside the step: new ghosts and lists
+      if (flag != 0) {  // skin used up inside the step: migrate, new ghosts and lists
+        // Everything a sphere carries through the step (velocity, drag impulse so far, sampled
+        // fluid velocity, sampling point) migrates with it, and no sum depends on which rank
+        // owns a sphere, so migrating here changes no result; it saves begin_step a second
+        // rebuild (the former mid-step rebuild without migration forced one).
+        comm_.migrate(set_);
         rebuild_lists();
-        need_migrate_ = true;
       }
     }
     compute_forces(h);

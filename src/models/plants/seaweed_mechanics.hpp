@@ -123,7 +123,14 @@ class SeaweedBodies {
   std::vector<Vec3> x_build_;  // owned positions at the last list build
   bool built_ = false, need_migrate_ = false;
   long long rebuilds_ = 0;
-  std::unordered_multimap<GlobalId, std::size_t> slots_;  // global id -> local slots
+  std::vector<std::pair<GlobalId, std::size_t>> slots_;  // (global id, local slot), sorted
+  struct Entry {  // one interaction of an owned sphere (rebuild_lists)
+    GlobalId partner;
+    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
+    std::uint32_t index;
+    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
+  };
+  std::vector<Entry> entries_;
   int n_plants_ = 0;
   long long broken_local_ = 0;
   long long skipped_joints_ = 0;  // at the last list build, owned children only
