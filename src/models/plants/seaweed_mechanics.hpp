@@ -103,6 +103,12 @@ class SeaweedBodies {
     Vec3 f, t;
   };
   static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
+  /// What the contact evaluation reads of a sphere, in one record (see compute_forces).
+  struct Hot {
+    Vec3 x, v, w;
+    Real r, pad[2];
+  };
+  std::vector<Hot> hot_;
   void compute_forces(Real dt_sub);
   void rebuild_lists();
   bool max_displacement_exceeded() const;    // collective
