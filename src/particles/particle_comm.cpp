@@ -277,9 +277,9 @@ void ParticleComm::update_ghosts(ParticleSet& set, const std::vector<int>& reals
       const int dest = decomp_.neighbor(d, side), src = decomp_.neighbor(d, 1 - side);
       if (dest != MPI_PROC_NULL && dest != me)
         sent_.add(static_cast<long long>(out.size() * sizeof(double)));
-      MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, dest,
-                   kTagPartial + side, in.data(), static_cast<int>(in.size()), MPI_DOUBLE, src,
-                   kTagPartial + side, comm, MPI_STATUS_IGNORE);
+      MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, dest, kTagPartial + side,
+                   in.data(), static_cast<int>(in.size()), MPI_DOUBLE, src, kTagPartial + side,
+                   comm, MPI_STATUS_IGNORE);
       for (std::size_t c = 0; c < nr; ++c) {
         Real* col = rcols[c] + p.recv_begin;
         for (std::size_t k = 0; k < nrecv; ++k) col[k] = in[k * w + c];

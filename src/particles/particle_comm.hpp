@@ -42,8 +42,7 @@ class ParticleComm {
   /// changes between two full refreshes), with the plan of the last build_ghosts. Packs column by
   /// column and sends one message per pass and side (the counts are known from the plan);
   /// position-valued attributes among `reals` are shifted for periodic images. Collective.
-  void update_ghosts(ParticleSet& set, const std::vector<int>& reals,
-                     const std::vector<int>& u64s);
+  void update_ghosts(ParticleSet& set, const std::vector<int>& reals, const std::vector<int>& u64s);
   /// \brief Add the values of real attributes `attrs` held on ghosts to the owners' values and
   /// zero them on the ghosts (forces computed on ghosts). Collective.
   void reverse_sum(ParticleSet& set, const std::vector<int>& attrs);

@@ -340,10 +340,11 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const Real* rad = set_.real(a_radius);
   const std::uint64_t* parent = set_.u64(u_parent);
   Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
-  // Joint results go straight to the summation slots of the owned spheres they act on
-  // (slot_; chains are stored in order, so these writes are nearly sequential). Every slot is written each sub-step; an inactive interaction writes +0 vectors, which
-  // the sum adds as an exact no-op (the sums start from +0 or a nonzero value and, rounding to
-  // nearest, can never become -0), so this equals skipping it bit for bit.
+  // Joint results go straight to their summation slots on the owned spheres they act on (slot_;
+  // chains are stored in order, so these writes are nearly sequential). Every slot is written
+  // each sub-step; a broken joint writes +0 vectors, which the sum adds as an exact no-op (the
+  // sums start from +0 or a nonzero value and, rounding to nearest, can never become -0), so
+  // this equals skipping it bit for bit.
   const std::size_t nj = joints_.size();
   Contrib* out = contrib_.data();
   const std::uint32_t* slot = slot_.data();

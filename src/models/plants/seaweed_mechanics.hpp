@@ -15,7 +15,8 @@
 /// sub-step), the same sub-step in which the child stops applying it.
 ///
 /// Neighbour lists (Verlet, with `skin`) are rebuilt when any sphere moved more than skin/2 since
-/// the last build (checked every sub-step, collectively).
+/// the last build (checked every sub-step, collectively); a rebuild migrates first. Between full
+/// ghost refreshes at the start and end of a step, sub-steps refresh only the changing state.
 #include <functional>
 #include <unordered_map>
 #include <vector>
@@ -97,8 +98,8 @@ class SeaweedBodies {
   int u_plant, u_parent;
 
  private:
-  /// Force and torque of one interaction on one owned sphere, stored in that sphere's summation
-  /// order (adj_begin_), so the per-sphere sum reads memory in order.
+  /// Force and torque of one joint on one owned sphere, stored densely in summation order, so the
+  /// per-sphere sum reads them in memory order (contacts are evaluated inside the sum).
   struct Contrib {
     Vec3 f, t;
   };
@@ -118,11 +119,11 @@ class SeaweedBodies {
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;    // contacts (lower id, higher id)
-  std::vector<std::pair<std::size_t, std::size_t>> joints_;   // (child, parent) local slots
-  std::vector<std::size_t> adj_begin_;  // CSR over owned spheres, into contrib_
-  // Per interaction [joints..., contacts...] and side (0: first sphere, 1: second): its slot in
-  // contrib_, or kNoSlot when that sphere is a ghost.
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;   // contacts (lower id, higher id)
+  std::vector<std::pair<std::size_t, std::size_t>> joints_;  // (child, parent) local slots
+  std::vector<std::size_t> adj_begin_;  // CSR over owned spheres, into entries_
+  // Per joint m and side (0: child, 1: parent): slot 2 m + side holds the position of its result
+  // in contrib_ (dense, in summation order), or kNoSlot when that sphere is a ghost.
   std::vector<std::uint32_t> slot_;
   std::vector<Contrib> contrib_;
   std::vector<std::size_t> broken_now_;
