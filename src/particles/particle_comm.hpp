@@ -38,6 +38,11 @@ class ParticleComm {
   /// \brief Refresh the ghost attributes (those flagged `ghost`) from the owners with the plan of
   /// the last build_ghosts (positions shifted for periodic images). Collective.
   void update_ghosts(ParticleSet& set);
+  /// \brief Refresh only the listed real and u64 attributes on the ghosts (e.g. the state that
+  /// changes between two full refreshes), with the plan of the last build_ghosts. Packs column by
+  /// column and sends one message per pass and side (the counts are known from the plan);
+  /// position-valued attributes among `reals` are shifted for periodic images. Collective.
+  void update_ghosts(ParticleSet& set, const std::vector<int>& reals, const std::vector<int>& u64s);
   /// \brief Add the values of real attributes `attrs` held on ghosts to the owners' values and
   /// zero them on the ghosts (forces computed on ghosts). Collective.
   void reverse_sum(ParticleSet& set, const std::vector<int>& attrs);

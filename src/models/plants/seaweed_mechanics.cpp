@@ -226,9 +226,11 @@ void SeaweedBodies::rebuild_lists() {
   const std::size_t no = set_.n_owned(), nt = set_.n_total();
   x_build_.resize(no);
   for (std::size_t i = 0; i < no; ++i) x_build_[i] = set_.pos(i);
-  slots_.clear();
-  slots_.reserve(nt);
-  for (std::size_t i = 0; i < nt; ++i) slots_.emplace(set_.id(i), i);
+  // (id, slot) of every owned and ghost sphere sorted by id: find_near's lookup (one flat sort
+  // instead of a node-based hash map rebuilt each time).
+  slots_.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i) slots_[i] = {set_.id(i), i};
+  std::sort(slots_.begin(), slots_.end());
   // Every interaction touching an owned sphere is listed here, also when the other sphere is a
   // ghost: both owners evaluate it with identical inputs and each adds it to its own sphere only,
   // so nothing is scattered back and the sum on a sphere never depends on the decomposition.
@@ -261,35 +263,43 @@ void SeaweedBodies::rebuild_lists() {
   }
   skipped_joints_ = skipped;
   // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
-  struct Entry {
-    GlobalId partner;
-    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
-    std::uint32_t index;
-    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
-  };
-  std::vector<std::vector<Entry>> lists(no);
+  // Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
+  adj_begin_.assign(no + 1, 0);
+  for (const auto& [c, p] : joints_) {
+    if (c < no) ++adj_begin_[c + 1];
+    if (p < no) ++adj_begin_[p + 1];
+  }
+  for (const auto& [i, j] : pairs_) {
+    if (i < no) ++adj_begin_[i + 1];
+    if (j < no) ++adj_begin_[j + 1];
+  }
+  for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
+  entries_.resize(adj_begin_[no]);
+  std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
   for (std::size_t m = 0; m < joints_.size(); ++m) {
     const auto [c, p] = joints_[m];
-    if (c < no) lists[c].push_back({set_.id(p), 0, static_cast<std::uint32_t>(m), 0});
-    if (p < no) lists[p].push_back({set_.id(c), 1, static_cast<std::uint32_t>(m), 1});
+    if (c < no) entries_[fill[c]++] = {set_.id(p), 0, static_cast<std::uint32_t>(m), 0};
+    if (p < no) entries_[fill[p]++] = {set_.id(c), 1, static_cast<std::uint32_t>(m), 1};
   }
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
-    if (i < no) lists[i].push_back({set_.id(j), 2, static_cast<std::uint32_t>(m), 0});
-    if (j < no) lists[j].push_back({set_.id(i), 2, static_cast<std::uint32_t>(m), 1});
+    // A contact entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
+    if (i < no) entries_[fill[i]++] = {set_.id(j), 2, static_cast<std::uint32_t>(j), 0};
+    if (j < no) entries_[fill[j]++] = {set_.id(i), 2, static_cast<std::uint32_t>(i), 1};
   }
-  adj_begin_.assign(no + 1, 0);
-  adj_.clear();
+  // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
+  // joint m's result on that side's sphere among all joint entries.
+  slot_.assign(2 * joints_.size(), kNoSlot);
+  std::uint32_t nslots = 0;
   for (std::size_t i = 0; i < no; ++i) {
-    auto& l = lists[i];
-    std::sort(l.begin(), l.end(), [](const Entry& a, const Entry& b) {
-      return a.partner != b.partner ? a.partner < b.partner : a.kind < b.kind;
+    const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
+    std::sort(b, e, [](const Entry& x, const Entry& y) {
+      return x.partner != y.partner ? x.partner < y.partner : x.kind < y.kind;
     });
-    for (const Entry& e : l)
-      adj_.push_back(
-          {static_cast<std::uint32_t>(e.kind == 2 ? joints_.size() + e.index : e.index), e.side});
-    adj_begin_[i + 1] = adj_.size();
+    for (auto it = b; it != e; ++it)
+      if (it->kind != 2) slot_[2 * it->index + it->side] = nslots++;
   }
+  contrib_.resize(nslots);
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -297,10 +307,10 @@ void SeaweedBodies::sample_fluid(const VelocityFn& u) {
 }
 
 std::size_t SeaweedBodies::find_near(GlobalId id, const Vec3& near) const {
-  auto [b, e] = slots_.equal_range(id);
+  auto it = std::lower_bound(slots_.begin(), slots_.end(), std::pair<GlobalId, std::size_t>{id, 0});
   std::size_t best = SIZE_MAX;
   Real bd = 1e300;
-  for (auto it = b; it != e; ++it) {
+  for (; it != slots_.end() && it->first == id; ++it) {
     const Vec3 d = set_.pos(it->second) - near;
     const Real r2 = core::dot(d, d);
     if (r2 < bd) bd = r2, best = it->second;
@@ -330,15 +340,24 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const Real* rad = set_.real(a_radius);
   const std::uint64_t* parent = set_.u64(u_parent);
   Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
-  // Interaction results: [joints..., contacts...], force and torque on each of the two spheres.
-  // Every entry is written below (inactive ones with active = false), so no clearing pass.
-  const std::size_t nj = joints_.size(), ni = nj + pairs_.size();
-  res_.resize(ni);
+  // Joint results go straight to their summation slots on the owned spheres they act on (slot_;
+  // chains are stored in order, so these writes are nearly sequential). Every slot is written
+  // each sub-step; a broken joint writes +0 vectors, which the sum adds as an exact no-op (the
+  // sums start from +0 or a nonzero value and, rounding to nearest, can never become -0), so
+  // this equals skipping it bit for bit.
+  const std::size_t nj = joints_.size();
+  Contrib* out = contrib_.data();
+  const std::uint32_t* slot = slot_.data();
+  auto put = [&](std::size_t m, const Vec3& f0, const Vec3& t0, const Vec3& f1, const Vec3& t1) {
+    if (slot[2 * m] != kNoSlot) out[slot[2 * m]] = {f0, t0};
+    if (slot[2 * m + 1] != kNoSlot) out[slot[2 * m + 1]] = {f1, t1};
+  };
+  const Vec3 zero{};
   // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data.
   for (std::size_t m = 0; m < nj; ++m) {
     const auto [i, j] = joints_[m];
     if (parent[i] != ids[j]) {  // broken since the list was built
-      res_[m].active = false;
+      put(m, zero, zero, zero, zero);
       continue;
     }
     const core::Quat qc{qw[i], qx[i], qy[i], qz[i]}, qp{qw[j], qx[j], qy[j], qz[j]};
@@ -352,7 +371,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     const core::Quat rel = qp.conj() * qc * core::Quat{rw[i], rx[i], ry[i], rz[i]}.conj();
     const Vec3 theta = qp.rotate(rel.rotation_vector());
     const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
-    res_[m] = {F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T, true};
+    put(m, F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T);
     if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
       const Real fm = core::norm(F), tm = core::norm(T);
       jforce[i] = fm;
@@ -360,19 +379,29 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (fm > p_.force_limit || tm > p_.torque_limit) broken_now_.push_back(i);
     }
   }
-  // Contacts.
-  for (std::size_t m = 0; m < pairs_.size(); ++m) {
-    const auto [i, j] = pairs_[m];
-    const Vec3 d = x.at(i) - x.at(j);
-    const Real dist = core::norm(d), ri = rad[i], rj = rad[j];
+  // Contacts are evaluated inside the per-sphere sum below, from each owned side (a pair of two
+  // owned spheres twice, with the same inputs in the same orientation, so both get the bits a
+  // single evaluation gave): the result needs no store to and load from a scattered slot, which
+  // cost more than the arithmetic. A pair not touching adds nothing (the former +0 / skip).
+  // The contact loop reads its partners in no particular order: their position, velocity,
+  // angular velocity and radius are copied into one record per sphere first (two cache lines per
+  // partner instead of ten columns).
+  const std::size_t nt = set_.n_total();
+  hot_.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
+  const Hot* hot = hot_.data();
+  const auto contact = [&](std::size_t i, std::size_t j, std::uint32_t side, Vec3& f, Vec3& t) {
+    const Hot &hi = hot[i], &hj = hot[j];
+    const Vec3 d = hi.x - hj.x;
+    const Real ri = hi.r, rj = hj.r, d2 = core::dot(d, d);
+    // Clearly apart (a margin far above round-off): skip the square root; else the exact test.
+    if (d2 > (ri + rj) * (ri + rj) * (1 + 1e-9)) return;
+    const Real dist = core::norm(d);
     const Real overlap = ri + rj - dist;
-    if (overlap <= 0 || dist <= 0) {
-      res_[nj + m].active = false;
-      continue;
-    }
+    if (overlap <= 0 || dist <= 0) return;
     const Vec3 n = d / dist;
-    const Vec3 wi = w.at(i), wj = w.at(j);
-    const Vec3 vrel = (v.at(i) + core::cross(wi, n * (-ri))) - (v.at(j) + core::cross(wj, n * rj));
+    const Vec3 wi = hi.w, wj = hj.w;
+    const Vec3 vrel = (hi.v + core::cross(wi, n * (-ri))) - (hj.v + core::cross(wj, n * rj));
     const Real vn = core::dot(vrel, n);
     const Real fn = std::max(0.0, p_.contact_k * overlap - p_.contact_c * vn);
     const Vec3 vt = vrel - n * vn;
@@ -380,8 +409,14 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     Vec3 ft{};
     if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
     const Vec3 F = n * fn + ft;
-    res_[nj + m] = {F, core::cross(n * (-ri), ft), -F, core::cross(n * rj, -ft), true};
-  }
+    if (side == 0) {
+      f = f + F;
+      t = t + core::cross(n * (-ri), ft);
+    } else {
+      f = f + (-F);
+      t = t + core::cross(n * rj, -ft);
+    }
+  };
   // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
   // order.
   bool periodic[3];
@@ -391,6 +426,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
     wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
   }
+  std::size_t jk = 0;  // next joint result (dense, in summation order)
   for (std::size_t i = 0; i < no; ++i) {
     const Vec3 xi = x.at(i), vi = v.at(i);
     const Vec3 rel = uf.at(i) - vi;
@@ -409,10 +445,17 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (lo > 0 || hi > 0) f = f + fw;
     }
     for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const Result& r = res_[adj_[k].first];
-      if (!r.active) continue;
-      f = f + (adj_[k].second == 0 ? r.f0 : r.f1);
-      t = t + (adj_[k].second == 0 ? r.t0 : r.t1);
+      const Entry& e = entries_[k];
+      if (e.kind == 2) {  // (lower id, higher id) as listed in pairs_
+        if (e.side == 0)
+          contact(i, e.index, 0, f, t);
+        else
+          contact(e.index, i, 1, f, t);
+        continue;
+      }
+      f = f + out[jk].f;
+      t = t + out[jk].t;
+      ++jk;
     }
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
@@ -437,11 +480,19 @@ void SeaweedBodies::advance(Real dt) {
       int flag = local_displacement_exceeded();
       MPI_Request req;
       MPI_Iallreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm(), &req);
-      comm_.update_ghosts(set_);
+      // Only the state that changes inside a step travels: position, velocity, orientation,
+      // angular velocity and the parent id (a break). Joint rest data, radius, plant never change
+      // and the drag impulse and sampling point are needed on ghosts only after the step (the
+      // full refresh at its end).
+      comm_.update_ghosts(set_, {ParticleSet::kPos, a_vel, a_quat, a_omega}, {u_parent});
       MPI_Wait(&req, MPI_STATUS_IGNORE);
-      if (flag != 0) {  // skin used up inside the step: new ghosts and lists
+      if (flag != 0) {  // skin used up inside the step: migrate, new ghosts and lists
+        // Everything a sphere carries through the step (velocity, drag impulse so far, sampled
+        // fluid velocity, sampling point) migrates with it, and no sum depends on which rank
+        // owns a sphere, so migrating here changes no result; it saves begin_step a second
+        // rebuild (the former mid-step rebuild without migration forced one).
+        comm_.migrate(set_);
         rebuild_lists();
-        need_migrate_ = true;
       }
     }
     compute_forces(h);

@@ -15,7 +15,8 @@
 /// sub-step), the same sub-step in which the child stops applying it.
 ///
 /// Neighbour lists (Verlet, with `skin`) are rebuilt when any sphere moved more than skin/2 since
-/// the last build (checked every sub-step, collectively).
+/// the last build (checked every sub-step, collectively); a rebuild migrates first. Between full
+/// ghost refreshes at the start and end of a step, sub-steps refresh only the changing state.
 #include <functional>
 #include <unordered_map>
 #include <vector>
@@ -97,10 +98,18 @@ class SeaweedBodies {
   int u_plant, u_parent;
 
  private:
-  struct Result {
-    Vec3 f0, t0, f1, t1;  ///< force/torque on the first and on the second sphere
-    bool active = false;
+  /// Force and torque of one joint on one owned sphere, stored densely in summation order, so the
+  /// per-sphere sum reads them in memory order (contacts are evaluated inside the sum).
+  struct Contrib {
+    Vec3 f, t;
   };
+  static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
+  /// What the contact evaluation reads of a sphere, in one record (see compute_forces).
+  struct Hot {
+    Vec3 x, v, w;
+    Real r, pad[2];
+  };
+  std::vector<Hot> hot_;
   void compute_forces(Real dt_sub);
   void rebuild_lists();
   bool max_displacement_exceeded() const;    // collective
@@ -110,16 +119,25 @@ class SeaweedBodies {
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;    // contacts (lower id, higher id)
-  std::vector<std::pair<std::size_t, std::size_t>> joints_;   // (child, parent) local slots
-  std::vector<std::size_t> adj_begin_;                        // CSR over owned spheres
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> adj_;  // (interaction, side)
-  std::vector<Result> res_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;   // contacts (lower id, higher id)
+  std::vector<std::pair<std::size_t, std::size_t>> joints_;  // (child, parent) local slots
+  std::vector<std::size_t> adj_begin_;  // CSR over owned spheres, into entries_
+  // Per joint m and side (0: child, 1: parent): slot 2 m + side holds the position of its result
+  // in contrib_ (dense, in summation order), or kNoSlot when that sphere is a ghost.
+  std::vector<std::uint32_t> slot_;
+  std::vector<Contrib> contrib_;
   std::vector<std::size_t> broken_now_;
   std::vector<Vec3> x_build_;  // owned positions at the last list build
   bool built_ = false, need_migrate_ = false;
   long long rebuilds_ = 0;
-  std::unordered_multimap<GlobalId, std::size_t> slots_;  // global id -> local slots
+  std::vector<std::pair<GlobalId, std::size_t>> slots_;  // (global id, local slot), sorted
+  struct Entry {  // one interaction of an owned sphere (rebuild_lists)
+    GlobalId partner;
+    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
+    std::uint32_t index;
+    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
+  };
+  std::vector<Entry> entries_;
   int n_plants_ = 0;
   long long broken_local_ = 0;
   long long skipped_joints_ = 0;  // at the last list build, owned children only
