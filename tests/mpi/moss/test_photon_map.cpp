@@ -116,7 +116,9 @@ TEST(PhotonMap, HalfRoofShadeAndIndirectLight) {
     st.indirect = indirect;
     const auto light = sun_light(sun_direction_from_angles(90, 0), sphere, st.distance_factor);
     auto s = map.insolation(tr, light, sphere, 11, 1, st, q);
-    if (rho > 0 && indirect) EXPECT_EQ(map.counts(), brute_counts(tr, light, sphere, st, 11, 1, q));
+    if (rho > 0 && indirect) {
+      EXPECT_EQ(map.counts(), brute_counts(tr, light, sphere, st, 11, 1, q));
+    }
     return std::pair{std::vector<double>(s.begin(), s.begin() + ns),
                      std::vector<double>(s.begin() + ns, s.end())};
   };
