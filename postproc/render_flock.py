@@ -10,29 +10,14 @@ step (default: the last).
 import os
 import sys
 
+from pv_common import open_series_at, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
                              OpenDataFile, Render, SaveScreenshot, Show, UpdatePipeline)
 
 out_dir, png = sys.argv[1], sys.argv[2]
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
-view = GetActiveViewOrCreate("RenderView")
-view.ViewSize = [1200, 900]
-try:
-    view.UseColorPaletteForBackground = 0
-except AttributeError:
-    pass
-view.Background = [1, 1, 1]
-
-boids = OpenDataFile(os.path.join(out_dir, "flock_boids.pvd"))
-try:
-    times = [float(v) for v in boids.TimestepValues]
-except TypeError:
-    times = [float(boids.TimestepValues)]
-if not times:
-    times = [0.0]
-t = times[index]
-UpdatePipeline(time=t, proxy=boids)
-view.ViewTime = t
+view = white_view()
+boids, t = open_series_at(view, out_dir, "flock_boids.pvd", index)
 
 g = Glyph(Input=boids, GlyphType="Sphere")
 g.ScaleArray = ["POINTS", "No scale array"]

@@ -10,30 +10,15 @@ looks from the front, above, into the space under the roof at the back.
 import os
 import sys
 
+from pv_common import open_series_at, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
                              GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show,
                              UpdatePipeline)
 
 out_dir, png = sys.argv[1], sys.argv[2]
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
-view = GetActiveViewOrCreate("RenderView")
-view.ViewSize = [1200, 900]
-try:
-    view.UseColorPaletteForBackground = 0
-except AttributeError:
-    pass
-view.Background = [1, 1, 1]
-
-terrain = OpenDataFile(os.path.join(out_dir, "moss_surface.pvd"))
-try:
-    times = [float(v) for v in terrain.TimestepValues]
-except TypeError:
-    times = [float(terrain.TimestepValues)]
-if not times:
-    times = [0.0]
-t = times[index]
-UpdatePipeline(time=t, proxy=terrain)
-view.ViewTime = t
+view = white_view()
+terrain, t = open_series_at(view, out_dir, "moss_surface.pvd", index)
 td = Show(terrain, view)
 td.SetRepresentationType("Surface")
 ColorBy(td, ("CELLS", "S"))

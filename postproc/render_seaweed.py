@@ -9,25 +9,14 @@ and, if present, <output.dir>/seaweed.pvd (LBM fields; a vertical slice coloured
 import os
 import sys
 
+from pv_common import open_series_at, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, Glyph, OpenDataFile, Render,
                              SaveScreenshot, Show, Slice, UpdatePipeline)
 
 out_dir, png = sys.argv[1], sys.argv[2]
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
-view = GetActiveViewOrCreate("RenderView")
-view.ViewSize = [1200, 900]
-view.Background = [1, 1, 1]
-
-parts = OpenDataFile(os.path.join(out_dir, "seaweed_particles.pvd"))
-try:
-    times = [float(v) for v in parts.TimestepValues]
-except TypeError:
-    times = [float(parts.TimestepValues)]
-if not times:
-    times = [0.0]
-t = times[index]
-UpdatePipeline(time=t, proxy=parts)
-view.ViewTime = t
+view = white_view()
+parts, t = open_series_at(view, out_dir, "seaweed_particles.pvd", index)
 
 fluid_pvd = os.path.join(out_dir, "seaweed.pvd")
 if os.path.exists(fluid_pvd):

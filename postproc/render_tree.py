@@ -10,26 +10,15 @@ line upstream of the trees). `index` picks the time step (default: the last).
 import os
 import sys
 
+from pv_common import open_series_at, white_view
 from paraview.simple import (CellDatatoPointData, ColorBy, GetActiveViewOrCreate, OpenDataFile,
                              Render, SaveScreenshot, Show, Slice, StreamTracer, Tube,
                              UpdatePipeline)
 
 out_dir, png = sys.argv[1], sys.argv[2]
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
-view = GetActiveViewOrCreate("RenderView")
-view.ViewSize = [1200, 900]
-view.Background = [1, 1, 1]
-
-trees = OpenDataFile(os.path.join(out_dir, "tree_nodes.pvd"))
-try:
-    times = [float(v) for v in trees.TimestepValues]
-except TypeError:
-    times = [float(trees.TimestepValues)]
-if not times:
-    times = [0.0]
-t = times[index]
-UpdatePipeline(time=t, proxy=trees)
-view.ViewTime = t
+view = white_view()
+trees, t = open_series_at(view, out_dir, "tree_nodes.pvd", index)
 (x0, x1, y0, y1, z0, z1) = trees.GetDataInformation().GetBounds()
 centre = [0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (z0 + z1)]
 
