@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "core/allgather.hpp"
 #include "core/error.hpp"
 #include "core/memory.hpp"
 #include "core/rng.hpp"
@@ -310,15 +311,8 @@ std::vector<BoidRecord> FlockScenario::gather_records(bool predators_only) const
     const Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
     mine.insert(mine.end(), {std::bit_cast<double>(set_->id(i)), x.x, x.y, x.z, v.x, v.y, v.z});
   }
-  const int P = decomp_->size();
-  int cnt = static_cast<int>(mine.size());
-  std::vector<int> counts(P), displs(P);
-  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
-  int total = 0;
-  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
-  std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                 ctx_.comm);
+  const std::vector<double> all = core::allgather_concat(ctx_.comm, mine);
+  const int total = static_cast<int>(all.size());
   std::vector<BoidRecord> out;
   for (int k = 0; k + 7 <= total; k += 7)
     out.push_back({std::bit_cast<core::GlobalId>(all[k]),

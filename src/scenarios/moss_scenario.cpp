@@ -9,6 +9,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "core/allgather.hpp"
 #include "core/error.hpp"
 #include "core/memory.hpp"
 #include "models/moss/life_cycle.hpp"
@@ -280,15 +281,8 @@ std::vector<MossRecord> MossScenario::gather_mosses() const {
                              set_->real(a_gmoss_)[i], set_->real(a_gmax_)[i], set_->real(a_age_)[i],
                              set_->real(a_s_)[i], double(set_->u64(u_layer_)[i])});
   }
-  const int P = decomp_->size();
-  int cnt = static_cast<int>(mine.size());
-  std::vector<int> counts(P), displs(P);
-  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
-  int total = 0;
-  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
-  std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                 ctx_.comm);
+  const std::vector<double> all = core::allgather_concat(ctx_.comm, mine);
+  const int total = static_cast<int>(all.size());
   std::vector<MossRecord> out;
   out.reserve(total / kW);
   for (int k = 0; k + kW <= total; k += kW)
@@ -508,15 +502,8 @@ void MossScenario::grow_and_reproduce(const std::vector<MossRecord>& all) {
 
 void MossScenario::settle_new_seeds(std::vector<double>& mine) {
   constexpr int kW = 9;
-  const int P = decomp_->size();
-  int cnt = static_cast<int>(mine.size());
-  std::vector<int> counts(P), displs(P);
-  MPI_Allgather(&cnt, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
-  int total = 0;
-  for (int r = 0; r < P; ++r) displs[r] = total, total += counts[r];
-  std::vector<double> all(total);
-  MPI_Allgatherv(mine.data(), cnt, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                 ctx_.comm);
+  const std::vector<double> all = core::allgather_concat(ctx_.comm, mine);
+  const int total = static_cast<int>(all.size());
   std::vector<std::size_t> order(static_cast<std::size_t>(total / kW));
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   auto key = [&](std::size_t k) {

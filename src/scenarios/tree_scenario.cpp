@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "core/allgather.hpp"
 #include "core/error.hpp"
 #include "io/particle_output.hpp"
 
@@ -329,15 +330,8 @@ void TreeScenario::contact_forces(std::vector<std::vector<Vec3>>& extra) {
                                va.z, vb.x, vb.y, vb.z, tr.radii()[k]});
     }
   }
-  const int size = decomp_->size();
-  int count = static_cast<int>(mine.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, ctx_.comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) displs[r] = total, total += counts[r];
-  std::vector<double> buf(total);
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, buf.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, ctx_.comm);
+  const std::vector<double> buf = core::allgather_concat(ctx_.comm, mine);
+  const int total = static_cast<int>(buf.size());
   // The same list, in (tree, node) order, on every rank.
   const std::size_t n = static_cast<std::size_t>(total / kw);
   std::vector<std::size_t> order(n);
