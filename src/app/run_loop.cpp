@@ -172,9 +172,18 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
 
   const double dt = scenario->dt();
   long long last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;
-  if (cfg.has("run.end_time"))
-    last_step = std::min(last_step,
-                         static_cast<long long>(std::llround(cfg.get_real("run.end_time") / dt)));
+  if (cfg.has("run.end_time")) {
+    const double end_time = cfg.get_real("run.end_time");
+    const long long end_step = std::llround(end_time / dt);
+    // A positive end time that rounds to step 0 selects no step: a unit slip (seconds for a
+    // scenario whose step is a day), not a request for an empty run.
+    if (end_time > 0 && end_step == 0)
+      cfg.fail("run.end_time",
+               fmt::format("s is shorter than half of the scenario's time step ({} s), so the run "
+                           "would take no step; allowed: 0 or >= {} s",
+                           dt, 0.5 * dt));
+    last_step = std::min(last_step, end_step);
+  }
   const long long out_every = cfg.get_int("output.interval");
   const long long ckpt_every = cfg.get_int("checkpoint.interval");
   const long long progress_every = cfg.get_int("run.progress_interval");

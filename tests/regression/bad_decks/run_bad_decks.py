@@ -106,6 +106,9 @@ CASES = [
      ["--set", "seaweed.placement.hi=[0.5, 0.06, 0.06]", "--set", "seaweed.plants=1"], "seaweed.placement.lo"),
     ("predator start outside", FLOCK, ["--set", "flock.predator.start=[500, 5, 5]"], "flock.predator.start"),
     # Issue 8: a grid too large for the machine: one line, needed vs available (was bad_alloc).
+    # An end time shorter than half a step selects no step (seconds given to the moss' daily step).
+    ("end time selects no step", MOSS, ["--set", "run.end_time=40"],
+     "run.end_time = 40.0 s is shorter than half of the scenario's time step (86400 s)"),
     ("grid too large", GOOD, ["--set", "lbm.nx=100000", "--set", "lbm.ny=100000", "--set", "lbm.nz=100000"],
      "lbm.nx x lbm.ny x lbm.nz = 100000 x 100000 x 100000 cells (D3Q15) need about"),
     # Issue 9: the tree scenario's placement, species and contact keys.
