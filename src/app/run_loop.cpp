@@ -167,9 +167,6 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
       fmt::print("restarted from {} at step {}, t = {:.6g} s\n", restart_path,
                  scenario->step_index(), scenario->time());
   }
-  ensure_dir(comm, cfg, "output.dir", out_dir, true);
-  ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
-
   const double dt = scenario->dt();
   long long last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;
   if (cfg.has("run.end_time")) {
@@ -184,6 +181,9 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
                            dt, 0.5 * dt));
     last_step = std::min(last_step, end_step);
   }
+  ensure_dir(comm, cfg, "output.dir", out_dir, true);
+  ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
+
   const long long out_every = cfg.get_int("output.interval");
   const long long ckpt_every = cfg.get_int("checkpoint.interval");
   const long long progress_every = cfg.get_int("run.progress_interval");
