@@ -129,9 +129,12 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   const std::string peer = opts.peer ? find_peer() : std::string();
   const double peer_mflups = peer.empty() ? 0.0 : run_peer(comm, size, opts.size, peer_lines);
   const double bw = stream_triad(comm);
+  // The cases' decomposition (walls on every face), printed because the split axis decides how
+  // contiguous the halo is.
+  const grid::Decomposition layout(comm, {opts.size, opts.size, opts.size}, {false, false, false});
   if (rank == 0) {
-    fmt::print("biota bench lbm: {}^3 cells, {} ranks, {} timed steps per case\n", opts.size, size,
-               opts.steps);
+    fmt::print("biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case\n",
+               opts.size, size, layout.dims().x, layout.dims().y, layout.dims().z, opts.steps);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
     if (!opts.peer)
       fmt::print("peer: not run (--no-peer)\n");

@@ -1,5 +1,7 @@
 #include "grid/decomposition.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -35,6 +37,36 @@ Index3 compact_fitting_dims(int size, const Index3& cells, const Index3& given) 
   return best;
 }
 
+// MPI_Dims_create's counts (non-increasing, x first) permuted over the axes the caller left free
+// (zero in `given`) to the fewest cut faces; ties put more ranks on the slower axes (z, then y).
+// The fields are x-fastest, so a z cut is whole contiguous x-y planes and a y cut whole rows,
+// where an x cut packs one value per row (a 100^3 LBM split 2 x 1 x 1 spent 17% of its step in
+// the halo). Never more cut faces than MPI's own order, which is one of the permutations.
+Index3 prefer_slow_axes(const Index3& dims, const Index3& cells, const Index3& given) {
+  auto cut = [&](const Index3& d) {
+    return double(d.x - 1) * cells.y * cells.z + double(d.y - 1) * cells.x * cells.z +
+           double(d.z - 1) * cells.x * cells.y;
+  };
+  // Later (slower) axes compare first, so among equal cuts the larger count on z wins.
+  auto slower_first = [](const Index3& a, const Index3& b) {
+    return a.z != b.z ? a.z > b.z : a.y > b.y;
+  };
+  std::array<int, 3> perm{0, 1, 2};
+  Index3 best = dims;
+  do {
+    Index3 d;
+    bool keeps = true;
+    for (int a = 0; a < 3; ++a) {
+      d[a] = dims[perm[a]];
+      keeps = keeps && (given[a] == 0 ? given[perm[a]] == 0 : perm[a] == a);
+    }
+    if (!keeps || !fits(d, cells)) continue;
+    const double c = cut(d), b = cut(best);
+    if (c < b || (c == b && slower_first(d, best))) best = d;
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  return best;
+}
+
 }  // namespace
 
 Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
@@ -45,7 +77,10 @@ Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool
   int d[3] = {dims.x, dims.y, dims.z};
   MPI_Dims_create(size, 3, d);
   dims_ = {d[0], d[1], d[2]};
-  if (!fits(dims_, global_)) {
+  if (fits(dims_, global_)) {
+    dims_ = prefer_slow_axes(dims_, global_, dims);
+    d[0] = dims_.x, d[1] = dims_.y, d[2] = dims_.z;
+  } else {
     // MPI_Dims_create ignores the cells (8 ranks on 64 x 64 x 1 gives 2 x 2 x 2).
     const Index3 alt = compact_fitting_dims(size, global_, dims);
     if (alt.x == 0) {

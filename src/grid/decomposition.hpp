@@ -40,8 +40,10 @@ struct GridKeys {
 /// allowed (100 cells on 3 ranks gives 34, 33, 33).
 class Decomposition {
  public:
-  /// \param dims rank grid; zeros are filled by MPI_Dims_create, or, where its choice puts more
-  /// ranks than cells on an axis, by the most compact rank grid that fits the cells.
+  /// \param dims rank grid; zeros are filled by MPI_Dims_create's counts, placed on the free axes
+  /// to cut the fewest faces with ties going to the slower axes (2 ranks on a cube: 1 x 1 x 2,
+  /// so the halo is contiguous planes), or, where MPI's counts put more ranks than cells on an
+  /// axis, by the most compact rank grid that fits the cells.
   /// \param keys deck keys named in the error message.
   /// \throws core::InputError (the same on every rank) if no rank grid gives each rank a cell.
   Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,

@@ -54,3 +54,23 @@ TEST(Decomposition, ForcedDimsAreHonoured) {
   EXPECT_EQ(d.dims().y, 1);
   EXPECT_EQ(d.dims().z, size);
 }
+
+// Free axes get MPI_Dims_create's counts at the fewest cut faces; ties go to the slower axes, whose
+// faces are contiguous in the x-fastest fields (a cube on 2 ranks: 1 x 1 x 2).
+TEST(Decomposition, FewestCutFacesTiesOnSlowAxes) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  Decomposition cube(MPI_COMM_WORLD, {24, 24, 24}, {false, false, false});
+  EXPECT_LE(cube.dims().x, cube.dims().y);
+  EXPECT_LE(cube.dims().y, cube.dims().z);
+  EXPECT_EQ(cube.dims().z, size);  // 1, 2 or 3 ranks: all on z
+  // A long box keeps its cut across the long axis (fewer cut faces than a z cut).
+  Decomposition slab(MPI_COMM_WORLD, {80, 40, 40}, {false, false, false});
+  EXPECT_EQ(slab.dims().x, size);
+  // Given dims stay; only the free axes are permuted.
+  Decomposition given(MPI_COMM_WORLD, {24, 24, 24}, {false, false, false}, {size, 0, 0});
+  EXPECT_EQ(given.dims().x, size);
+  // 2D (one cell along z): the cut goes across y (whole rows) rather than x.
+  Decomposition flat(MPI_COMM_WORLD, {64, 64, 1}, {false, false, true});
+  EXPECT_EQ(flat.dims().y, size);
+}
