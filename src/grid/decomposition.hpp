@@ -41,9 +41,9 @@ struct GridKeys {
 class Decomposition {
  public:
   /// \param dims rank grid; zeros are filled by MPI_Dims_create's counts, placed on the free axes
-  /// to cut the fewest faces with ties going to the slower axes (2 ranks on a cube: 1 x 1 x 2,
-  /// so the halo is contiguous planes), or, where MPI's counts put more ranks than cells on an
-  /// axis, by the most compact rank grid that fits the cells.
+  /// to cut the fewest faces, ties keeping the fewest ranks on z (the vertical) and then on x
+  /// (the unit stride): 2 ranks on a cube give 1 x 2 x 1, so the halo is whole rows. Where MPI's
+  /// counts put more ranks than cells on an axis: the most compact rank grid that fits the cells.
   /// \param keys deck keys named in the error message.
   /// \throws core::InputError (the same on every rank) if no rank grid gives each rank a cell.
   Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,

@@ -55,18 +55,19 @@ TEST(Decomposition, ForcedDimsAreHonoured) {
   EXPECT_EQ(d.dims().z, size);
 }
 
-// Free axes get MPI_Dims_create's counts at the fewest cut faces; ties go to the slower axes, whose
-// faces are contiguous in the x-fastest fields (a cube on 2 ranks: 1 x 1 x 2).
-TEST(Decomposition, FewestCutFacesTiesOnSlowAxes) {
+// Free axes get MPI_Dims_create's counts at the fewest cut faces; ties keep the fewest ranks on z
+// (the vertical), then on x (the unit stride): a cube on 2 or 3 ranks is cut across y.
+TEST(Decomposition, FewestCutFacesTiesAvoidZThenX) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   Decomposition cube(MPI_COMM_WORLD, {24, 24, 24}, {false, false, false});
-  EXPECT_LE(cube.dims().x, cube.dims().y);
-  EXPECT_LE(cube.dims().y, cube.dims().z);
-  EXPECT_EQ(cube.dims().z, size);  // 1, 2 or 3 ranks: all on z
-  // A long box keeps its cut across the long axis (fewer cut faces than a z cut).
+  EXPECT_EQ(cube.dims().y, size);  // 1, 2 or 3 ranks: all on y
+  // A long box keeps its cut across the long axis (fewer cut faces than a y cut).
   Decomposition slab(MPI_COMM_WORLD, {80, 40, 40}, {false, false, false});
   EXPECT_EQ(slab.dims().x, size);
+  // A tall box is cut across z: fewer cut faces wins over the tie rule.
+  Decomposition tall(MPI_COMM_WORLD, {20, 20, 90}, {false, false, false});
+  EXPECT_EQ(tall.dims().z, size);
   // Given dims stay; only the free axes are permuted.
   Decomposition given(MPI_COMM_WORLD, {24, 24, 24}, {false, false, false}, {size, 0, 0});
   EXPECT_EQ(given.dims().x, size);
