@@ -39,7 +39,7 @@ Index3 compact_fitting_dims(int size, const Index3& cells, const Index3& given) 
 
 // MPI_Dims_create's counts (non-increasing, x first) permuted over the axes the caller left free
 // (zero in `given`) to the fewest cut faces. Ties keep the fewest ranks on z, then on x:
-//  - z is the vertical of every scenario (plants rooted on the floor, settled particles, the
+//  - z is the vertical (seaweed and trees rooted on the floor, settled spheres, the tank's
 //    jet), so a horizontal cut balances the particle work a z cut would leave on the lowest rank;
 //  - the fields are x-fastest, so an x cut packs one value per row while a y cut packs whole
 //    contiguous rows (a 100^3 LBM split 2 x 1 x 1 spent 17% of its step in the halo).
