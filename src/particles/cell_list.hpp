@@ -41,6 +41,10 @@ class CellList {
     order_.resize(n);
     std::vector<std::size_t> fill(head_.begin(), head_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order_[fill[bin_[i]]++] = i;
+    // Coordinates copied in bin order: the pair loop streams them instead of gathering.
+    sx_.resize(n), sy_.resize(n), sz_.resize(n);
+    for (std::size_t a = 0; a < n; ++a)
+      sx_[a] = x[order_[a]], sy_[a] = y[order_[a]], sz_[a] = z[order_[a]];
   }
 
   /// \brief Call f(i, j, r2) once for every unordered pair i != j closer than the cutoff.
@@ -52,6 +56,7 @@ class CellList {
       for (int by = 0; by < nb_[1]; ++by)
         for (int bx = 0; bx < nb_[0]; ++bx) {
           const std::size_t b = index(bx, by, bz);
+          if (head_[b] == head_[b + 1]) continue;  // sparse sets: most bins are empty
           for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
               for (int dx = -1; dx <= 1; ++dx) {
@@ -61,12 +66,11 @@ class CellList {
                 const std::size_t c = index(cx, cy, cz);
                 if (c < b) continue;  // each bin pair once
                 for (std::size_t a = head_[b]; a < head_[b + 1]; ++a) {
-                  const std::size_t i = order_[a];
+                  const core::Real xi = sx_[a], yi = sy_[a], zi = sz_[a];
                   for (std::size_t e = (c == b ? a + 1 : head_[c]); e < head_[c + 1]; ++e) {
-                    const std::size_t j = order_[e];
-                    const core::Real ddx = x_[i] - x_[j], ddy = y_[i] - y_[j], ddz = z_[i] - z_[j];
+                    const core::Real ddx = xi - sx_[e], ddy = yi - sy_[e], ddz = zi - sz_[e];
                     const core::Real r2 = ddx * ddx + ddy * ddy + ddz * ddz;
-                    if (r2 < rc2) f(i, j, r2);
+                    if (r2 < rc2) f(order_[a], order_[e], r2);
                   }
                 }
               }
@@ -90,6 +94,7 @@ class CellList {
   core::Vec3 lo_{}, edge_{};
   int nb_[3] = {1, 1, 1};
   std::vector<std::size_t> head_, bin_, order_;
+  std::vector<core::Real> sx_, sy_, sz_;  // coordinates in bin order
 };
 
 }  // namespace biota::particles

@@ -6,105 +6,13 @@
 #include <numeric>
 
 #include "core/quat.hpp"
+#include "models/plants/seaweed_joint_block.hpp"
 #include "particles/cell_list.hpp"
 
 namespace biota::models::plants {
 
 using particles::kNoId;
 using particles::ParticleSet;
-
-void MechanicsParams::declare_config(core::ConfigSchema& s) {
-  s.add_real("seaweed.radius", 0.005, 0.0, std::nullopt, "m", "sphere radius (growth points)",
-             true);
-  s.add_real("seaweed.spacing", 0.01, 0.0, std::nullopt, "m", "max sphere spacing along stems",
-             true);
-  s.add_real("seaweed.plant_density", 1200, 0.0, std::nullopt, "kg/m^3", "plant density", true);
-  s.add_real("seaweed.water_density", 998, 0.0, std::nullopt, "kg/m^3", "water density (eq. 9, 10)",
-             true);
-  s.add_real("seaweed.gravity", 9.8, 0.0, std::nullopt, "m/s^2", "gravitational acceleration");
-  s.add_real("seaweed.drag_cd", 1.0, 0.0, std::nullopt, "-", "drag coefficient C_D (eq. 10)");
-  s.add_real("seaweed.joint.stiffness", 50, 0.0, std::nullopt, "N/m",
-             "stretch spring at the joint anchor", true);
-  s.add_real("seaweed.joint.damping", 0.01, 0.0, std::nullopt, "N s/m", "stretch damper");
-  s.add_real("seaweed.joint.bend_stiffness", 1e-4, 0.0, std::nullopt, "N m/rad",
-             "3-DOF rotational spring");
-  s.add_real("seaweed.joint.bend_damping", 2e-7, 0.0, std::nullopt, "N m s/rad",
-             "rotational damper");
-  s.add_real("seaweed.joint.force_limit", 1000, 0.0, std::nullopt, "N", "F_c of eq. 8", true);
-  s.add_real("seaweed.joint.torque_limit", 1000, 0.0, std::nullopt, "N m", "T_c of eq. 8", true);
-  s.add_real("seaweed.contact.stiffness", 50, 0.0, std::nullopt, "N/m", "normal contact spring");
-  s.add_real("seaweed.contact.damping", 0.01, 0.0, std::nullopt, "N s/m", "normal contact damper");
-  s.add_real("seaweed.contact.friction", 0.5, 0.0, std::nullopt, "-",
-             "Coulomb friction coefficient");
-  s.add_real("seaweed.contact.tangential_damping", 0.01, 0.0, std::nullopt, "N s/m",
-             "viscous tangential friction below the Coulomb cap");
-  s.add_real("seaweed.cluster_margin", 0.001, 0.0, std::nullopt, "m", "gap counted as contact");
-  s.add_real("seaweed.skin", 0.01, 0.0, std::nullopt, "m", "neighbour-list skin");
-  s.add_int("seaweed.substeps", 20, 1, 10000, "mechanics sub-steps per physics step");
-}
-
-MechanicsParams MechanicsParams::from_config(const core::Config& c) {
-  MechanicsParams p;
-  p.radius = c.get_real("seaweed.radius");
-  p.spacing = c.get_real("seaweed.spacing");
-  p.plant_density = c.get_real("seaweed.plant_density");
-  p.water_density = c.get_real("seaweed.water_density");
-  p.gravity = c.get_real("seaweed.gravity");
-  p.drag_cd = c.get_real("seaweed.drag_cd");
-  p.joint_k = c.get_real("seaweed.joint.stiffness");
-  p.joint_c = c.get_real("seaweed.joint.damping");
-  p.bend_k = c.get_real("seaweed.joint.bend_stiffness");
-  p.bend_c = c.get_real("seaweed.joint.bend_damping");
-  p.force_limit = c.get_real("seaweed.joint.force_limit");
-  p.torque_limit = c.get_real("seaweed.joint.torque_limit");
-  p.contact_k = c.get_real("seaweed.contact.stiffness");
-  p.contact_c = c.get_real("seaweed.contact.damping");
-  p.friction = c.get_real("seaweed.contact.friction");
-  p.friction_c = c.get_real("seaweed.contact.tangential_damping");
-  p.cluster_margin = c.get_real("seaweed.cluster_margin");
-  p.skin = c.get_real("seaweed.skin");
-  p.substeps = static_cast<int>(c.get_int("seaweed.substeps"));
-  return p;
-}
-
-Real MechanicsParams::mass() const {
-  return plant_density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
-}
-Real MechanicsParams::inertia() const {
-  return 0.4 * mass() * radius * radius;
-}
-Real MechanicsParams::omega_max() const {
-  // A sphere in a chain has two joints and at most ~12 contacts; each joint spring also acts on
-  // the rotation through the anchor lever r (k r^2 / I = 2.5 k / m).
-  const Real m = mass();
-  const Real lin = (2 * joint_k * 2 + 12 * contact_k) / m;
-  const Real rot = 2 * joint_k * 2.5 / m + 2 * bend_k / inertia();
-  return std::sqrt(lin + rot);
-}
-
-particles::ParticleLayout seaweed_layout() {
-  particles::ParticleLayout l;
-  l.add_real("v", 3, true, true);
-  l.add_real("q", 4, true, true);
-  l.add_real("omega", 3, true, true);
-  l.add_real("force", 3, false, false);
-  l.add_real("torque", 3, false, false);
-  l.add_real("u_fluid", 3, true, false);
-  // Joint rest data and the drag impulse travel with ghosts: a joint or a contact is evaluated by
-  // every rank owning one of its spheres, and spreading reads ghosts' impulses (decomposition
-  // invariance, see begin_step).
-  l.add_real("drag_impulse", 3, true, true);
-  l.add_real("anchor_child", 3, true, true);
-  l.add_real("anchor_parent", 3, true, true);
-  l.add_real("q_rest", 4, true, true);
-  l.add_position("x_sample", true, true);  // shifted with periodic images (spreading point)
-  l.add_real("joint_force", 1, true, false);
-  l.add_real("joint_torque", 1, true, false);
-  l.add_real("radius", 1, true, true);
-  l.add_u64("plant", 1, true, true);
-  l.add_u64("parent", 1, true, true);
-  return l;
-}
 
 SeaweedBodies::SeaweedBodies(particles::ParticleComm& comm, MechanicsParams params)
     : comm_(comm), p_(params), set_(seaweed_layout()) {
@@ -214,6 +122,25 @@ bool SeaweedBodies::local_displacement_exceeded() const {
   return m2 > 0.25 * p_.skin * p_.skin;
 }
 
+bool SeaweedBodies::filter_due() const {
+  // A contact dropped by the filter was at least r_i + r_j + inner_skin apart; while no sphere
+  // (owned or ghost: both are refreshed each sub-step and keep their slots between list builds)
+  // moved half the inner skin, it is still more than r_i + r_j apart and adds nothing. The
+  // (1 - 1e-6) keeps that margin ~1e-9 m, far above round-off. Rank-local: the filter changes no
+  // result, so ranks need not agree on when they filter.
+  if (need_filter_ || p_.inner_skin <= 0) return true;
+  const std::size_t nt = set_.n_total();
+  const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
+             *pz = set_.real(ParticleSet::kPos, 2);
+  const Real lim = 0.5 * p_.inner_skin * (1 - 1e-6), lim2 = lim * lim;
+  for (std::size_t k = 0; k < nt; ++k) {
+    const Real dx = px[k] - x_filter_[k].x, dy = py[k] - x_filter_[k].y,
+               dz = pz[k] - x_filter_[k].z;
+    if (dx * dx + dy * dy + dz * dz >= lim2) return true;
+  }
+  return false;
+}
+
 bool SeaweedBodies::max_displacement_exceeded() const {
   int flag = local_displacement_exceeded();
   MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm());
@@ -223,6 +150,7 @@ bool SeaweedBodies::max_displacement_exceeded() const {
 void SeaweedBodies::rebuild_lists() {
   comm_.build_ghosts(set_, ghost_cutoff());
   ++rebuilds_;
+  need_filter_ = true;
   const std::size_t no = set_.n_owned(), nt = set_.n_total();
   x_build_.resize(no);
   for (std::size_t i = 0; i < no; ++i) x_build_[i] = set_.pos(i);
@@ -240,12 +168,14 @@ void SeaweedBodies::rebuild_lists() {
   const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
   particles::CellList cl(set_.real(ParticleSet::kPos, 0), set_.real(ParticleSet::kPos, 1),
                          set_.real(ParticleSet::kPos, 2), nt, contact_range);
+  const GlobalId* ids = set_.u64(ParticleSet::kId);
+  const std::uint64_t* parent = set_.u64(u_parent);
   cl.for_each_pair([&](std::size_t i, std::size_t j, Real) {
     if (i >= no && j >= no) return;
     // Joined neighbours and siblings on one parent do not collide.
-    const GlobalId pi = set_.u64(u_parent)[i], pj = set_.u64(u_parent)[j];
-    if (pi == set_.id(j) || pj == set_.id(i) || (pi == pj && pi != kNoId)) return;
-    pairs_.emplace_back(set_.id(i) < set_.id(j) ? i : j, set_.id(i) < set_.id(j) ? j : i);
+    const GlobalId pi = parent[i], pj = parent[j];
+    if (pi == ids[j] || pj == ids[i] || (pi == pj && pi != kNoId)) return;
+    pairs_.emplace_back(ids[i] < ids[j] ? i : j, ids[i] < ids[j] ? j : i);
   });
   joints_.clear();
   long long skipped = 0;
@@ -276,16 +206,19 @@ void SeaweedBodies::rebuild_lists() {
   for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
   entries_.resize(adj_begin_[no]);
   std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
+  const auto key = [&](std::size_t partner, std::uint64_t kind) {
+    return ids[partner] << 2 | kind;
+  };
   for (std::size_t m = 0; m < joints_.size(); ++m) {
     const auto [c, p] = joints_[m];
-    if (c < no) entries_[fill[c]++] = {set_.id(p), 0, static_cast<std::uint32_t>(m), 0};
-    if (p < no) entries_[fill[p]++] = {set_.id(c), 1, static_cast<std::uint32_t>(m), 1};
+    if (c < no) entries_[fill[c]++] = {key(p, 0), static_cast<std::uint32_t>(m), 0};
+    if (p < no) entries_[fill[p]++] = {key(c, 1), static_cast<std::uint32_t>(m), 1};
   }
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
     // A contact entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
-    if (i < no) entries_[fill[i]++] = {set_.id(j), 2, static_cast<std::uint32_t>(j), 0};
-    if (j < no) entries_[fill[j]++] = {set_.id(i), 2, static_cast<std::uint32_t>(i), 1};
+    if (i < no) entries_[fill[i]++] = {key(j, 2), static_cast<std::uint32_t>(j), 0};
+    if (j < no) entries_[fill[j]++] = {key(i, 2), static_cast<std::uint32_t>(i), 1};
   }
   // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
   // joint m's result on that side's sphere among all joint entries.
@@ -293,11 +226,9 @@ void SeaweedBodies::rebuild_lists() {
   std::uint32_t nslots = 0;
   for (std::size_t i = 0; i < no; ++i) {
     const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
-    std::sort(b, e, [](const Entry& x, const Entry& y) {
-      return x.partner != y.partner ? x.partner < y.partner : x.kind < y.kind;
-    });
+    std::sort(b, e, [](const Entry& x, const Entry& y) { return x.key < y.key; });
     for (auto it = b; it != e; ++it)
-      if (it->kind != 2) slot_[2 * it->index + it->side] = nslots++;
+      if (it->kind() != 2) slot_[2 * it->index + it->side] = nslots++;
   }
   contrib_.resize(nslots);
 }
@@ -353,30 +284,43 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     if (slot[2 * m + 1] != kNoSlot) out[slot[2 * m + 1]] = {f1, t1};
   };
   const Vec3 zero{};
-  // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data.
-  for (std::size_t m = 0; m < nj; ++m) {
-    const auto [i, j] = joints_[m];
-    if (parent[i] != ids[j]) {  // broken since the list was built
-      put(m, zero, zero, zero, zero);
-      continue;
+  // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data, in
+  // blocks of kJointBlock (gathered into SoA lanes, evaluated with vector instructions, bitwise
+  // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
+  // are discarded.
+  JointBlock& jb = *joint_block_;
+  for (std::size_t m0 = 0; m0 < nj; m0 += kJointBlock) {
+    const int lanes = static_cast<int>(std::min<std::size_t>(kJointBlock, nj - m0));
+    for (int l = 0; l < kJointBlock; ++l) {
+      const auto [i, j] = joints_[m0 + (l < lanes ? l : 0)];
+      jb.qc.w[l] = qw[i], jb.qc.x[l] = qx[i], jb.qc.y[l] = qy[i], jb.qc.z[l] = qz[i];
+      jb.qp.w[l] = qw[j], jb.qp.x[l] = qx[j], jb.qp.y[l] = qy[j], jb.qp.z[l] = qz[j];
+      jb.qr.w[l] = rw[i], jb.qr.x[l] = rx[i], jb.qr.y[l] = ry[i], jb.qr.z[l] = rz[i];
+      jb.ac.x[l] = ac.c0[i], jb.ac.y[l] = ac.c1[i], jb.ac.z[l] = ac.c2[i];
+      jb.ap.x[l] = ap.c0[i], jb.ap.y[l] = ap.c1[i], jb.ap.z[l] = ap.c2[i];
+      jb.xc.x[l] = x.c0[i], jb.xc.y[l] = x.c1[i], jb.xc.z[l] = x.c2[i];
+      jb.xp.x[l] = x.c0[j], jb.xp.y[l] = x.c1[j], jb.xp.z[l] = x.c2[j];
+      jb.vc.x[l] = v.c0[i], jb.vc.y[l] = v.c1[i], jb.vc.z[l] = v.c2[i];
+      jb.vp.x[l] = v.c0[j], jb.vp.y[l] = v.c1[j], jb.vp.z[l] = v.c2[j];
+      jb.wc.x[l] = w.c0[i], jb.wc.y[l] = w.c1[i], jb.wc.z[l] = w.c2[i];
+      jb.wp.x[l] = w.c0[j], jb.wp.y[l] = w.c1[j], jb.wp.z[l] = w.c2[j];
     }
-    const core::Quat qc{qw[i], qx[i], qy[i], qz[i]}, qp{qw[j], qx[j], qy[j], qz[j]};
-    const Vec3 rc = qc.rotate(ac.at(i)), rp = qp.rotate(ap.at(i));
-    const Vec3 wc = w.at(i), wp = w.at(j);
-    const Vec3 vc = v.at(i) + core::cross(wc, rc);
-    const Vec3 vp = v.at(j) + core::cross(wp, rp);
-    const Vec3 gap = (x.at(j) + rp) - (x.at(i) + rc);
-    const Vec3 F = gap * p_.joint_k + (vp - vc) * p_.joint_c;  // on the child
-    // 3-DOF rotational spring-damper on the relative rotation q_p^* q_c against its rest value.
-    const core::Quat rel = qp.conj() * qc * core::Quat{rw[i], rx[i], ry[i], rz[i]}.conj();
-    const Vec3 theta = qp.rotate(rel.rotation_vector());
-    const Vec3 T = theta * (-p_.bend_k) - (wc - wp) * p_.bend_c;  // on the child
-    put(m, F, core::cross(rc, F) + T, -F, core::cross(rp, -F) - T);
-    if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
-      const Real fm = core::norm(F), tm = core::norm(T);
-      jforce[i] = fm;
-      jtorque[i] = tm;
-      if (fm > p_.force_limit || tm > p_.torque_limit) broken_now_.push_back(i);
+    evaluate_joint_block(jb, p_.joint_k, p_.joint_c, p_.bend_k, p_.bend_c);
+    for (int l = 0; l < lanes; ++l) {
+      const std::size_t m = m0 + l;
+      const auto [i, j] = joints_[m];
+      if (parent[i] != ids[j]) {  // broken since the list was built
+        put(m, zero, zero, zero, zero);
+        continue;
+      }
+      const Vec3 F{jb.F.x[l], jb.F.y[l], jb.F.z[l]};
+      put(m, F, {jb.tc.x[l], jb.tc.y[l], jb.tc.z[l]}, -F, {jb.tp.x[l], jb.tp.y[l], jb.tp.z[l]});
+      if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
+        const Real fm = jb.fm[l], tm = jb.tm[l];
+        jforce[i] = fm;
+        jtorque[i] = tm;
+        if (fm > p_.force_limit || tm > p_.torque_limit) broken_now_.push_back(i);
+      }
     }
   }
   // Contacts are evaluated inside the per-sphere sum below, from each owned side (a pair of two
@@ -426,6 +370,19 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
     wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
   }
+  // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
+  // the entries that can still touch are copied, in order; otherwise only those are walked.
+  // Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
+  const bool filter = filter_due();
+  if (filter) {
+    ++filters_;
+    need_filter_ = false;
+    x_filter_.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
+    near_.clear();
+    near_begin_.assign(no + 1, 0);
+  }
+  const Real s_in = p_.inner_skin;
   std::size_t jk = 0;  // next joint result (dense, in summation order)
   for (std::size_t i = 0; i < no; ++i) {
     const Vec3 xi = x.at(i), vi = v.at(i);
@@ -444,18 +401,37 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * vi[d]);
       if (lo > 0 || hi > 0) f = f + fw;
     }
-    for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const Entry& e = entries_[k];
-      if (e.kind == 2) {  // (lower id, higher id) as listed in pairs_
-        if (e.side == 0)
-          contact(i, e.index, 0, f, t);
+    const auto interact = [&](std::uint32_t kind, std::uint32_t side, std::uint32_t index) {
+      if (kind == 2) {  // (lower id, higher id) as listed in pairs_
+        if (side == 0)
+          contact(i, index, 0, f, t);
         else
-          contact(e.index, i, 1, f, t);
-        continue;
+          contact(index, i, 1, f, t);
+        return;
       }
       f = f + out[jk].f;
       t = t + out[jk].t;
       ++jk;
+    };
+    if (filter) {
+      for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+        const Entry& e = entries_[k];
+        bool keep = e.kind() != 2;
+        if (!keep) {
+          const Hot& hj = hot[e.index];
+          const Vec3 d = hot[i].x - hj.x;
+          const Real reach = hot[i].r + hj.r + s_in;
+          keep = core::dot(d, d) < reach * reach;
+        }
+        if (keep) near_.push_back({e.index, e.kind() | e.side << 2});
+        interact(e.kind(), e.side, e.index);
+      }
+      near_begin_[i + 1] = near_.size();
+    } else {
+      for (std::size_t k = near_begin_[i]; k < near_begin_[i + 1]; ++k) {
+        const Near e = near_[k];
+        interact(e.tag & 3u, e.tag >> 2, e.index);
+      }
     }
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];

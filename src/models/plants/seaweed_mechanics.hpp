@@ -18,10 +18,12 @@
 /// the last build (checked every sub-step, collectively); a rebuild migrates first. Between full
 /// ghost refreshes at the start and end of a step, sub-steps refresh only the changing state.
 #include <functional>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
 #include "core/config.hpp"
+#include "models/plants/seaweed_joint_block.hpp"
 #include "models/plants/ulva_growth.hpp"
 #include "particles/particle_comm.hpp"
 #include "particles/particle_set.hpp"
@@ -38,6 +40,10 @@ struct MechanicsParams {
   Real contact_k = 50, contact_c = 0.01, friction = 0.5, friction_c = 0.01;
   Real cluster_margin = 0.001;  ///< gap still counted as a contact for entanglement [m]
   Real skin = 0.01;             ///< neighbour-list skin [m]
+  /// Skin of the inner contact list filtered from the neighbour list (rank-local, re-filtered
+  /// when a sphere moved more than half of it) [m]. Not a deck key: it changes no result, only
+  /// how many far pairs a sub-step visits; <= 0 visits the whole neighbour list every sub-step.
+  Real inner_skin = 0.002;
   int substeps = 20;
   static void declare_config(core::ConfigSchema& schema);
   static MechanicsParams from_config(const core::Config& cfg);
@@ -75,6 +81,8 @@ class SeaweedBodies {
   void begin_step();
   /// \brief Number of neighbour-list rebuilds so far (tests, timing).
   long long rebuilds() const { return rebuilds_; }
+  /// \brief Number of inner contact-list filters so far (timing).
+  long long filters() const { return filters_; }
   /// \brief Ghost cutoff used for the particle halo [m]: covers contacts and joints stretched
   /// up to twice seaweed.spacing, plus the skin.
   Real ghost_cutoff() const;
@@ -110,6 +118,7 @@ class SeaweedBodies {
     Real r, pad[2];
   };
   std::vector<Hot> hot_;
+  std::unique_ptr<JointBlock> joint_block_ = std::make_unique<JointBlock>();  // 2.7 kB scratch
   void compute_forces(Real dt_sub);
   void rebuild_lists();
   bool max_displacement_exceeded() const;    // collective
@@ -131,13 +140,25 @@ class SeaweedBodies {
   bool built_ = false, need_migrate_ = false;
   long long rebuilds_ = 0;
   std::vector<std::pair<GlobalId, std::size_t>> slots_;  // (global id, local slot), sorted
-  struct Entry {  // one interaction of an owned sphere (rebuild_lists)
-    GlobalId partner;
-    int kind;  // 0 joint as child, 1 joint as parent, 2 contact
+  struct Entry {        // one interaction of an owned sphere (rebuild_lists)
+    std::uint64_t key;  // partner global id << 2 | kind (0 joint as child, 1 as parent, 2 contact)
     std::uint32_t index;
     std::uint32_t side;  // 0: first sphere of the interaction, 1: second
+    std::uint32_t kind() const { return static_cast<std::uint32_t>(key & 3); }
   };
   std::vector<Entry> entries_;
+  // Inner list: the entries of entries_ that can still touch, in the same order (every joint, and
+  // the contacts closer than the radii plus inner_skin at the last filter), per owned sphere.
+  struct Near {
+    std::uint32_t index;  // Entry::index
+    std::uint32_t tag;    // kind | side << 2
+  };
+  std::vector<Near> near_;
+  std::vector<std::size_t> near_begin_;
+  std::vector<Vec3> x_filter_;  // owned and ghost positions at the last filter
+  bool need_filter_ = true;
+  long long filters_ = 0;
+  bool filter_due() const;
   int n_plants_ = 0;
   long long broken_local_ = 0;
   long long skipped_joints_ = 0;  // at the last list build, owned children only

@@ -1,0 +1,114 @@
+#include "models/plants/seaweed_joint_block.hpp"
+
+#include <cmath>
+
+namespace biota::models::plants {
+
+namespace {
+
+constexpr int B = kJointBlock;
+using V = JointBlock::V;
+using Q = JointBlock::Q;
+
+/// core::Quat::rotate per lane: t = 2 cross(u, v); v + w t + cross(u, t).
+inline void rotate(const Q& q, const V& v, V& o) {
+  for (int l = 0; l < B; ++l) {
+    const Real tx = (q.y[l] * v.z[l] - q.z[l] * v.y[l]) * 2.0;
+    const Real ty = (q.z[l] * v.x[l] - q.x[l] * v.z[l]) * 2.0;
+    const Real tz = (q.x[l] * v.y[l] - q.y[l] * v.x[l]) * 2.0;
+    o.x[l] = (v.x[l] + tx * q.w[l]) + (q.y[l] * tz - q.z[l] * ty);
+    o.y[l] = (v.y[l] + ty * q.w[l]) + (q.z[l] * tx - q.x[l] * tz);
+    o.z[l] = (v.z[l] + tz * q.w[l]) + (q.x[l] * ty - q.y[l] * tx);
+  }
+}
+
+/// a * b of core::Quat per lane (the operands as given, conjugation done by the caller).
+inline void mul(const Q& a, const Q& b, Q& o) {
+  for (int l = 0; l < B; ++l) {
+    o.w[l] = a.w[l] * b.w[l] - a.x[l] * b.x[l] - a.y[l] * b.y[l] - a.z[l] * b.z[l];
+    o.x[l] = a.w[l] * b.x[l] + a.x[l] * b.w[l] + a.y[l] * b.z[l] - a.z[l] * b.y[l];
+    o.y[l] = a.w[l] * b.y[l] - a.x[l] * b.z[l] + a.y[l] * b.w[l] + a.z[l] * b.x[l];
+    o.z[l] = a.w[l] * b.z[l] + a.x[l] * b.y[l] - a.y[l] * b.x[l] + a.z[l] * b.w[l];
+  }
+}
+
+inline void conj(const Q& a, Q& o) {
+  for (int l = 0; l < B; ++l) o.w[l] = a.w[l], o.x[l] = -a.x[l], o.y[l] = -a.y[l], o.z[l] = -a.z[l];
+}
+
+/// o = cross(a, b) + s * c (s = +1 or -1 as an exact add or subtract of c).
+inline void cross_add(const V& a, const V& b, const V& c, bool subtract, V& o) {
+  for (int l = 0; l < B; ++l) {
+    const Real x = a.y[l] * b.z[l] - a.z[l] * b.y[l];
+    const Real y = a.z[l] * b.x[l] - a.x[l] * b.z[l];
+    const Real z = a.x[l] * b.y[l] - a.y[l] * b.x[l];
+    o.x[l] = subtract ? x - c.x[l] : x + c.x[l];
+    o.y[l] = subtract ? y - c.y[l] : y + c.y[l];
+    o.z[l] = subtract ? z - c.z[l] : z + c.z[l];
+  }
+}
+
+}  // namespace
+
+void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k, Real bend_c) {
+  V rc, rp;
+  rotate(b.qc, b.ac, rc);
+  rotate(b.qp, b.ap, rp);
+  // Stretch spring-damper at the anchor: F = gap k + (v_p - v_c) c on the child, with the anchor
+  // velocities v + cross(w, r) and gap = (x_p + r_p) - (x_c + r_c).
+  for (int l = 0; l < B; ++l) {
+    const Real vcx = b.vc.x[l] + (b.wc.y[l] * rc.z[l] - b.wc.z[l] * rc.y[l]);
+    const Real vcy = b.vc.y[l] + (b.wc.z[l] * rc.x[l] - b.wc.x[l] * rc.z[l]);
+    const Real vcz = b.vc.z[l] + (b.wc.x[l] * rc.y[l] - b.wc.y[l] * rc.x[l]);
+    const Real vpx = b.vp.x[l] + (b.wp.y[l] * rp.z[l] - b.wp.z[l] * rp.y[l]);
+    const Real vpy = b.vp.y[l] + (b.wp.z[l] * rp.x[l] - b.wp.x[l] * rp.z[l]);
+    const Real vpz = b.vp.z[l] + (b.wp.x[l] * rp.y[l] - b.wp.y[l] * rp.x[l]);
+    const Real gx = (b.xp.x[l] + rp.x[l]) - (b.xc.x[l] + rc.x[l]);
+    const Real gy = (b.xp.y[l] + rp.y[l]) - (b.xc.y[l] + rc.y[l]);
+    const Real gz = (b.xp.z[l] + rp.z[l]) - (b.xc.z[l] + rc.z[l]);
+    b.F.x[l] = gx * joint_k + (vpx - vcx) * joint_c;
+    b.F.y[l] = gy * joint_k + (vpy - vcy) * joint_c;
+    b.F.z[l] = gz * joint_k + (vpz - vcz) * joint_c;
+  }
+  // Relative rotation q_p^* q_c q_r^* and its rotation vector (Quat::rotation_vector: the
+  // hemisphere w >= 0, angle 2 atan2(s, w), axis * angle; the small-angle branch 2 (x, y, z)).
+  Q cp, cr, t1, rel;
+  conj(b.qp, cp);
+  conj(b.qr, cr);
+  mul(cp, b.qc, t1);
+  mul(t1, cr, rel);
+  Real s[B];
+  for (int l = 0; l < B; ++l) {
+    if (rel.w[l] < 0)
+      rel.w[l] = -rel.w[l], rel.x[l] = -rel.x[l], rel.y[l] = -rel.y[l], rel.z[l] = -rel.z[l];
+    s[l] = std::sqrt(rel.x[l] * rel.x[l] + rel.y[l] * rel.y[l] + rel.z[l] * rel.z[l]);
+  }
+  V rv;
+  for (int l = 0; l < B; ++l) {  // scalar: libm
+    if (s[l] < 1e-12) {
+      rv.x[l] = 2 * rel.x[l], rv.y[l] = 2 * rel.y[l], rv.z[l] = 2 * rel.z[l];
+      continue;
+    }
+    const Real f = (2 * std::atan2(s[l], rel.w[l])) / s[l];
+    rv.x[l] = rel.x[l] * f, rv.y[l] = rel.y[l] * f, rv.z[l] = rel.z[l] * f;
+  }
+  V theta;
+  rotate(b.qp, rv, theta);
+  // T = theta (-k_b) - (w_c - w_p) c_b on the child.
+  const Real nk = -bend_k;
+  for (int l = 0; l < B; ++l) {
+    b.T.x[l] = theta.x[l] * nk - (b.wc.x[l] - b.wp.x[l]) * bend_c;
+    b.T.y[l] = theta.y[l] * nk - (b.wc.y[l] - b.wp.y[l]) * bend_c;
+    b.T.z[l] = theta.z[l] * nk - (b.wc.z[l] - b.wp.z[l]) * bend_c;
+  }
+  V mF;
+  for (int l = 0; l < B; ++l) mF.x[l] = -b.F.x[l], mF.y[l] = -b.F.y[l], mF.z[l] = -b.F.z[l];
+  cross_add(rc, b.F, b.T, false, b.tc);
+  cross_add(rp, mF, b.T, true, b.tp);
+  for (int l = 0; l < B; ++l) {
+    b.fm[l] = std::sqrt(b.F.x[l] * b.F.x[l] + b.F.y[l] * b.F.y[l] + b.F.z[l] * b.F.z[l]);
+    b.tm[l] = std::sqrt(b.T.x[l] * b.T.x[l] + b.T.y[l] * b.T.y[l] + b.T.z[l] * b.T.z[l]);
+  }
+}
+
+}  // namespace biota::models::plants

@@ -1,0 +1,104 @@
+/// \file seaweed_params.cpp
+/// \brief Deck keys, derived quantities and the particle layout of the seaweed bodies (split from
+/// seaweed_mechanics.cpp, which holds the dynamics).
+#include <cmath>
+#include <numbers>
+
+#include "models/plants/seaweed_mechanics.hpp"
+
+namespace biota::models::plants {
+
+void MechanicsParams::declare_config(core::ConfigSchema& s) {
+  s.add_real("seaweed.radius", 0.005, 0.0, std::nullopt, "m", "sphere radius (growth points)",
+             true);
+  s.add_real("seaweed.spacing", 0.01, 0.0, std::nullopt, "m", "max sphere spacing along stems",
+             true);
+  s.add_real("seaweed.plant_density", 1200, 0.0, std::nullopt, "kg/m^3", "plant density", true);
+  s.add_real("seaweed.water_density", 998, 0.0, std::nullopt, "kg/m^3", "water density (eq. 9, 10)",
+             true);
+  s.add_real("seaweed.gravity", 9.8, 0.0, std::nullopt, "m/s^2", "gravitational acceleration");
+  s.add_real("seaweed.drag_cd", 1.0, 0.0, std::nullopt, "-", "drag coefficient C_D (eq. 10)");
+  s.add_real("seaweed.joint.stiffness", 50, 0.0, std::nullopt, "N/m",
+             "stretch spring at the joint anchor", true);
+  s.add_real("seaweed.joint.damping", 0.01, 0.0, std::nullopt, "N s/m", "stretch damper");
+  s.add_real("seaweed.joint.bend_stiffness", 1e-4, 0.0, std::nullopt, "N m/rad",
+             "3-DOF rotational spring");
+  s.add_real("seaweed.joint.bend_damping", 2e-7, 0.0, std::nullopt, "N m s/rad",
+             "rotational damper");
+  s.add_real("seaweed.joint.force_limit", 1000, 0.0, std::nullopt, "N", "F_c of eq. 8", true);
+  s.add_real("seaweed.joint.torque_limit", 1000, 0.0, std::nullopt, "N m", "T_c of eq. 8", true);
+  s.add_real("seaweed.contact.stiffness", 50, 0.0, std::nullopt, "N/m", "normal contact spring");
+  s.add_real("seaweed.contact.damping", 0.01, 0.0, std::nullopt, "N s/m", "normal contact damper");
+  s.add_real("seaweed.contact.friction", 0.5, 0.0, std::nullopt, "-",
+             "Coulomb friction coefficient");
+  s.add_real("seaweed.contact.tangential_damping", 0.01, 0.0, std::nullopt, "N s/m",
+             "viscous tangential friction below the Coulomb cap");
+  s.add_real("seaweed.cluster_margin", 0.001, 0.0, std::nullopt, "m", "gap counted as contact");
+  s.add_real("seaweed.skin", 0.01, 0.0, std::nullopt, "m", "neighbour-list skin");
+  s.add_int("seaweed.substeps", 20, 1, 10000, "mechanics sub-steps per physics step");
+}
+
+MechanicsParams MechanicsParams::from_config(const core::Config& c) {
+  MechanicsParams p;
+  p.radius = c.get_real("seaweed.radius");
+  p.spacing = c.get_real("seaweed.spacing");
+  p.plant_density = c.get_real("seaweed.plant_density");
+  p.water_density = c.get_real("seaweed.water_density");
+  p.gravity = c.get_real("seaweed.gravity");
+  p.drag_cd = c.get_real("seaweed.drag_cd");
+  p.joint_k = c.get_real("seaweed.joint.stiffness");
+  p.joint_c = c.get_real("seaweed.joint.damping");
+  p.bend_k = c.get_real("seaweed.joint.bend_stiffness");
+  p.bend_c = c.get_real("seaweed.joint.bend_damping");
+  p.force_limit = c.get_real("seaweed.joint.force_limit");
+  p.torque_limit = c.get_real("seaweed.joint.torque_limit");
+  p.contact_k = c.get_real("seaweed.contact.stiffness");
+  p.contact_c = c.get_real("seaweed.contact.damping");
+  p.friction = c.get_real("seaweed.contact.friction");
+  p.friction_c = c.get_real("seaweed.contact.tangential_damping");
+  p.cluster_margin = c.get_real("seaweed.cluster_margin");
+  p.skin = c.get_real("seaweed.skin");
+  p.substeps = static_cast<int>(c.get_int("seaweed.substeps"));
+  return p;
+}
+
+Real MechanicsParams::mass() const {
+  return plant_density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+}
+Real MechanicsParams::inertia() const {
+  return 0.4 * mass() * radius * radius;
+}
+Real MechanicsParams::omega_max() const {
+  // A sphere in a chain has two joints and at most ~12 contacts; each joint spring also acts on
+  // the rotation through the anchor lever r (k r^2 / I = 2.5 k / m).
+  const Real m = mass();
+  const Real lin = (2 * joint_k * 2 + 12 * contact_k) / m;
+  const Real rot = 2 * joint_k * 2.5 / m + 2 * bend_k / inertia();
+  return std::sqrt(lin + rot);
+}
+
+particles::ParticleLayout seaweed_layout() {
+  particles::ParticleLayout l;
+  l.add_real("v", 3, true, true);
+  l.add_real("q", 4, true, true);
+  l.add_real("omega", 3, true, true);
+  l.add_real("force", 3, false, false);
+  l.add_real("torque", 3, false, false);
+  l.add_real("u_fluid", 3, true, false);
+  // Joint rest data and the drag impulse travel with ghosts: a joint or a contact is evaluated by
+  // every rank owning one of its spheres, and spreading reads ghosts' impulses (decomposition
+  // invariance, see begin_step).
+  l.add_real("drag_impulse", 3, true, true);
+  l.add_real("anchor_child", 3, true, true);
+  l.add_real("anchor_parent", 3, true, true);
+  l.add_real("q_rest", 4, true, true);
+  l.add_position("x_sample", true, true);  // shifted with periodic images (spreading point)
+  l.add_real("joint_force", 1, true, false);
+  l.add_real("joint_torque", 1, true, false);
+  l.add_real("radius", 1, true, true);
+  l.add_u64("plant", 1, true, true);
+  l.add_u64("parent", 1, true, true);
+  return l;
+}
+
+}  // namespace biota::models::plants
