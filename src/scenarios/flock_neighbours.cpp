@@ -96,18 +96,21 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   const double* r2s = acc_r2_.data();
   const double *X = c_[0].data(), *Y = c_[1].data(), *Z = c_[2].data();
   const double *VX = c_[3].data(), *VY = c_[4].data(), *VZ = c_[5].data();
-  // The sums of accumulate_neighbour(), in the same order (bitwise).
+  // The sums of accumulate_neighbour(), in the same order (bitwise), in locals: the result `s`
+  // may alias the inputs as far as the compiler knows, so summing into it stored every step.
+  Vec3 sep{}, vel{}, pos{};
   for (std::size_t a = 0; a < cnt; ++a) {
     const std::size_t j = acc[a];
     const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
     const double r2 = r2s[a];  // = core::dot(d, d), from the perception test
     if (r2 < d2) {             // the square root only for the few pairs closer than d*
       const double r = std::sqrt(r2);
-      s.separation -= d * ((d_star - r) / r);
+      sep -= d * ((d_star - r) / r);
     }
-    s.velocity += Vec3{VX[j], VY[j], VZ[j]};
-    s.position += d;
+    vel += Vec3{VX[j], VY[j], VZ[j]};
+    pos += d;
   }
+  s.separation = sep, s.velocity = vel, s.position = pos;
   s.count = static_cast<int>(cnt);
   return s;
 }
