@@ -49,7 +49,39 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
                        _mm512_maskz_compress_pd(m, _mm512_maskz_loadu_pd(tm, in[c] + k)));
     n += static_cast<std::size_t>(__builtin_popcount(m));
   }
-#else
+#elif defined(__AVX2__)
+  const __m256d lx = _mm256_set1_pd(lo.x), ly = _mm256_set1_pd(lo.y), lz = _mm256_set1_pd(lo.z);
+  const __m256d hx = _mm256_set1_pd(hi.x), hy = _mm256_set1_pd(hi.y), hz = _mm256_set1_pd(hi.z);
+  const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
+  auto gap = [&](__m256d c, __m256d l, __m256d h) {
+    return _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(l, c), _mm256_sub_pd(c, h)), zero);
+  };
+  // Full vectors only; the tail (< 4 candidates) takes the scalar loop below, which keeps the
+  // same candidates (a superset filter: which path decides does not matter).
+  for (; k + 4 <= last; k += 4) {
+    const __m256d cx = _mm256_loadu_pd(X + k), cy = _mm256_loadu_pd(Y + k),
+                  cz = _mm256_loadu_pd(Z + k);
+    const __m256d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
+    const __m256d e2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
+                                     _mm256_mul_pd(ez, ez));
+    const __m256i el = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(eligible + k));
+    const __m256d m =
+        _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
+                         _mm256_cmp_pd(e2, rr, _CMP_LT_OQ));
+    const int bits = _mm256_movemask_pd(m);
+    const __m256i perm =
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(mf::kPack4[bits].data()));
+    auto pack = [&](__m256d a) {
+      return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(a), perm));
+    };
+    _mm256_storeu_pd(out[0] + n, pack(cx));
+    _mm256_storeu_pd(out[1] + n, pack(cy));
+    _mm256_storeu_pd(out[2] + n, pack(cz));
+    for (int c = 3; c < 6; ++c) _mm256_storeu_pd(out[c] + n, pack(_mm256_loadu_pd(in[c] + k)));
+    n += static_cast<std::size_t>(__builtin_popcount(bits));
+  }
+#endif
+#if !defined(__AVX512F__)
   // Branch-free: write, then advance (the compiler keeps this scalar; cheap next to the mask).
   for (; k < last; ++k) {
     const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);

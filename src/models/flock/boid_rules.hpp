@@ -239,6 +239,21 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
   return cnt;
 }
 
+#if defined(__AVX2__)
+/// \brief For each 4-bit lane mask, the 32-bit lane permutation (_mm256_permutevar8x32) that
+/// packs the selected 64-bit lanes of a 4-lane vector to the front, in order.
+inline constexpr auto kPack4 = [] {
+  std::array<std::array<int, 8>, 16> t{};
+  for (int m = 0; m < 16; ++m) {
+    int o = 0;
+    for (int l = 0; l < 4; ++l)
+      if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
+    for (; o < 8; ++o) t[m][o] = 0;
+  }
+  return t;
+}();
+#endif
+
 /// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
 /// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
 /// to `out` and `out_r2` in increasing k and returns their number. Both need room for n + 8
@@ -280,17 +295,6 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
     cnt += static_cast<std::size_t>(__builtin_popcount(m));
   }
 #elif defined(__AVX2__)
-  // 32-bit lane permutations that pack the selected 64-bit lanes of a 4-bit mask to the front.
-  static constexpr auto kPack = [] {
-    std::array<std::array<int, 8>, 16> t{};
-    for (int m = 0; m < 16; ++m) {
-      int o = 0;
-      for (int l = 0; l < 4; ++l)
-        if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
-      for (; o < 8; ++o) t[m][o] = 0;
-    }
-    return t;
-  }();
   const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
   const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
   const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
@@ -324,7 +328,7 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
     }
     const int bits = _mm256_movemask_pd(m);
     const __m256i idx = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
-    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack[bits].data()));
+    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
                         _mm256_permutevar8x32_epi32(idx, perm));
     _mm256_storeu_pd(out_r2 + cnt,
