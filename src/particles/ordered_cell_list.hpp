@@ -124,6 +124,8 @@ class OrderedCellList {
 
   /// \brief Points binned by the last build().
   std::size_t size() const { return n_; }
+  /// \brief One past the last slot of the bin that holds slot k (a bin's slots are contiguous).
+  std::size_t bin_end(std::size_t k) const { return head_[bin_[order_[k]] + 1]; }
   /// \brief Original index of slot k.
   std::size_t index(std::size_t k) const { return order_[k]; }
   /// \brief Positions and ids in slot order.

@@ -418,7 +418,10 @@ void FlockScenario::step() {
     const double* Y = cells_.y();
     const double* Z = cells_.z();
     const core::GlobalId* ids = cells_.ids();
+    // Slots of the current bin, and the bin whose candidates bin_ holds (by its end slot).
+    std::size_t bin_first = 0, bin_last = 0, gathered_end = 0;
     for (std::size_t k = 0; k < cells_.size(); ++k) {
+      if (k == bin_last) bin_first = k, bin_last = cells_.bin_end(k);
       const std::size_t i = cells_.index(k);
       if (i >= no) continue;
       const core::GlobalId id = ids[k];
@@ -440,36 +443,12 @@ void FlockScenario::step() {
       const double dstar = set_->real(a_dstar_)[i];
       mf::NeighbourSums s;
       if (align_mode_ == mf::AlignmentMode::kAverage) {
-        // Blocks: a vectorised perception mask compacted to the accepted slots, then the sums over
-        // the accepted neighbours in visit order (the order that makes them
-        // decomposition-invariant).
-        const double v2 = core::dot(v, v), c2 = fov_cos_ * fov_cos_;
-        std::size_t cnt = 0;
-        cells_.for_each_near_block(x, [&](std::size_t first, std::size_t last) {
-          const std::size_t n = last - first;
-          if (mask_.size() < n) mask_.resize(2 * n);
-          if (accepted_.size() < cnt + n + 8) accepted_.resize(2 * (cnt + n + 8));
-          cnt += mf::perceive_compact(X + first, Y + first, Z + first, eligible_.data() + first,
-                                      first, n, x, v, v2, R2, fov_cos_, c2, accepted_.data() + cnt,
-                                      mask_.data());
-        });
-        // The sums of accumulate_neighbour() in the same order (bitwise), without the nearest
-        // neighbour, which kAverage does not use.
-        const double dstar2 = dstar * dstar;
-        const double *VX = svx_.data(), *VY = svy_.data(), *VZ = svz_.data();
-        const std::uint64_t* acc_slots = accepted_.data();  // locals: no reloads through `this`
-        for (std::size_t a = 0; a < cnt; ++a) {
-          const std::size_t j = acc_slots[a];
-          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
-          const double r2 = core::dot(d, d);
-          if (r2 < dstar2) {
-            const double r = std::sqrt(r2);
-            s.separation -= d * ((dstar - r) / r);
-          }
-          s.velocity += Vec3{VX[j], VY[j], VZ[j]};
-          s.position += d;
+        if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
+          bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
+                      eligible_.data(), R2);
+          gathered_end = bin_last;
         }
-        s.count += static_cast<int>(cnt);
+        s = bin_.sums(x, v, R2, fov_cos_, dstar);
       } else {
         cells_.for_each_near(x, [&](std::size_t j) {
           const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};

@@ -23,6 +23,7 @@
 #include "models/flock/sandpile.hpp"
 #include "particles/ordered_cell_list.hpp"
 #include "particles/particle_comm.hpp"
+#include "scenarios/flock_neighbours.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace biota::scenarios {
@@ -146,8 +147,7 @@ class FlockScenario : public Scenario {
   particles::OrderedCellList cells_;
   std::vector<double> svx_, svy_, svz_;
   std::vector<std::uint64_t> eligible_;
-  std::vector<std::uint64_t> mask_;      // perception mask of one block of candidates
-  std::vector<std::uint64_t> accepted_;  // accepted candidate slots of one boid, visit order
+  BinNeighbours bin_;  // candidates shared by the boids of one bin (kAverage)
   // Statistics.
   int stats_every_ = 1;
   double last_phi_ = 0;

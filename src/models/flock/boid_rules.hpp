@@ -239,6 +239,116 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
   return cnt;
 }
 
+#if defined(__AVX2__)
+/// \brief For each 4-bit lane mask, the 32-bit lane permutation (_mm256_permutevar8x32) that
+/// packs the selected 64-bit lanes of a 4-lane vector to the front, in order.
+inline constexpr auto kPack4 = [] {
+  std::array<std::array<int, 8>, 16> t{};
+  for (int m = 0; m < 16; ++m) {
+    int o = 0;
+    for (int l = 0; l < 4; ++l)
+      if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
+    for (; o < 8; ++o) t[m][o] = 0;
+  }
+  return t;
+}();
+#endif
+
+/// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
+/// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
+/// to `out` and `out_r2` in increasing k and returns their number. Both need room for n + 8
+/// entries. r2 is computed as core::dot(d, d) computes it, so sums that reuse it keep their bits.
+/// Every candidate, the tail included, goes through the same vector code (AVX-512: 8 lanes, AVX2:
+/// 4 lanes, else a branch-free scalar loop), separate multiplies and adds (no FMA), so a decision
+/// never depends on a candidate's position in the array.
+inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real* Z, std::size_t n,
+                                       const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                                       Real fov_cos, Real c2, std::uint64_t* out, Real* out_r2) {
+  std::size_t cnt = 0;
+  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
+#if defined(__AVX512F__)
+  const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
+  const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
+  const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
+  const __m512d cv = _mm512_set1_pd(c2 * v2);
+  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+  for (std::size_t k = 0; k < n; k += 8) {
+    const __mmask8 tm = n - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (n - k)) - 1);
+    const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
+    const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
+    const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
+    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+                                     _mm512_mul_pd(dz, dz));
+    __mmask8 m =
+        tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+    if (!all_round) {
+      const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
+                                       _mm512_mul_pd(vz, dz));
+      const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
+      const __mmask8 ahead = _mm512_cmp_pd_mask(vd, zero, _CMP_GE_OQ);
+      m &= narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
+                  : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
+    }
+    const __m512i idx = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)), lanes);
+    _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
+    _mm512_storeu_pd(out_r2 + cnt, _mm512_maskz_compress_pd(m, r2));
+    cnt += static_cast<std::size_t>(__builtin_popcount(m));
+  }
+#elif defined(__AVX2__)
+  const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
+  const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
+  const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
+  const __m256d cv = _mm256_set1_pd(c2 * v2);
+  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
+  for (std::size_t k = 0; k < n; k += 4) {
+    const std::size_t left = n - k;
+    // Full vectors: plain loads (maskload is slow on AMD); the tail: masked loads, same values.
+    const bool full = left >= 4;
+    const __m256i tm =
+        full ? _mm256_set1_epi64x(-1)
+             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
+    const __m256d dx =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm), px);
+    const __m256d dy =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm), py);
+    const __m256d dz =
+        _mm256_sub_pd(full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm), pz);
+    const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                     _mm256_mul_pd(dz, dz));
+    __m256d m = _mm256_and_pd(
+        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ)),
+        _mm256_castsi256_pd(tm));
+    if (!all_round) {
+      const __m256d vd = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vx, dx), _mm256_mul_pd(vy, dy)),
+                                       _mm256_mul_pd(vz, dz));
+      const __m256d vd2 = _mm256_mul_pd(vd, vd), lim = _mm256_mul_pd(cv, r2);
+      const __m256d ahead = _mm256_cmp_pd(vd, zero, _CMP_GE_OQ);
+      m = _mm256_and_pd(m, narrow ? _mm256_and_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_GE_OQ))
+                                  : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ)));
+    }
+    const int bits = _mm256_movemask_pd(m);
+    const __m256i idx = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
+    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
+                        _mm256_permutevar8x32_epi32(idx, perm));
+    _mm256_storeu_pd(out_r2 + cnt,
+                     _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(r2), perm)));
+    cnt += static_cast<std::size_t>(__builtin_popcount(bits));
+  }
+#else
+  for (std::size_t k = 0; k < n; ++k) {
+    const Real dx = X[k] - x.x, dy = Y[k] - x.y, dz = Z[k] - x.z;
+    const Real r2 = dx * dx + dy * dy + dz * dz;
+    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
+    const bool cone = narrow ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
+    out[cnt] = k;
+    out_r2[cnt] = r2;
+    cnt += (r2 < radius2) & (r2 > 0) & (all_round | cone);
+  }
+#endif
+  return cnt;
+}
+
 /// \brief Separation acceleration w_sep Σ (x_b - x_j)(d* - r)/r (spec 2.1; units of w: 1/s²).
 inline Vec3 separation(const NeighbourSums& s, Real weight) {
   return s.separation * weight;
@@ -280,6 +390,7 @@ inline Vec3 chase(const Vec3& d, Real weight) {
 /// Outside the box the push is capped at `weight`.
 inline Vec3 soft_wall(const Vec3& x, const Vec3& lo, const Vec3& hi, Real margin, Real weight) {
   Vec3 a{};
+  if (weight == 0) return a;  // no walls (periodic box): exactly the +0 sums below, no divisions
   for (int d = 0; d < 3; ++d) {
     const Real below = std::min(Real(1), (lo[d] + margin - x[d]) / margin);
     const Real above = std::min(Real(1), (x[d] - (hi[d] - margin)) / margin);

@@ -183,6 +183,44 @@ TEST(BoidKernels, PerceiveBlockMatchesPerceives) {
   EXPECT_GT(total, 300);
 }
 
+TEST(BoidKernels, PerceiveCompactR2MatchesPerceives) {
+  // All lengths 0..40 (every tail of the 8- and 4-lane paths): exactly the candidates that
+  // perceives() accepts, in order, with r2 bitwise core::dot(d, d).
+  std::vector<double> X(40), Y(40), Z(40), r2(48);
+  std::vector<std::uint64_t> out(48);
+  int total = 0;
+  for (double fov_deg : {360.0, 300.0, 180.0, 90.0}) {
+    const double fc = fov_deg >= 360 ? -1 : std::cos(fov_deg / 2 * std::numbers::pi / 180);
+    for (int b = 0; b < 20; ++b) {
+      Rng r(23, b, 0, RngPurpose::kTest);
+      const Vec3 x{r.uniform(), r.uniform(), r.uniform()};
+      const Vec3 v = b == 0 ? Vec3{} : random_unit(r);
+      for (std::size_t n = 0; n <= 40; ++n) {
+        for (std::size_t k = 0; k < n; ++k) {
+          X[k] = k == 3 ? x.x : r.uniform(-3, 4), Y[k] = k == 3 ? x.y : r.uniform(-3, 4);
+          Z[k] = k == 3 ? x.z : r.uniform(-3, 4);
+        }
+        const std::size_t c =
+            perceive_compact_r2(X.data(), Y.data(), Z.data(), n, x, v, biota::core::dot(v, v), 4.0,
+                                fc, fc * fc, out.data(), r2.data());
+        std::size_t want = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+          const Vec3 d{X[k] - x.x, Y[k] - x.y, Z[k] - x.z};
+          const double dd = biota::core::dot(d, d);
+          if (!perceives(v, d, dd, 4.0, fc)) continue;
+          ASSERT_LT(want, c) << "fov " << fov_deg << " n " << n;
+          EXPECT_EQ(out[want], k);
+          EXPECT_EQ(r2[want], dd);
+          ++want;
+        }
+        EXPECT_EQ(c, want) << "fov " << fov_deg << " n " << n;
+        total += static_cast<int>(want);
+      }
+    }
+  }
+  EXPECT_GT(total, 1000);
+}
+
 TEST(BoidFlock, RandomHeadingsGiveMeanPhiSquaredOneOverN) {
   // For N independent isotropic unit vectors E[φ²] = 1/N exactly; φ² ≈ χ²₃/(3N), so one sample has
   // standard deviation sqrt(2/3)/N and the mean of M samples sqrt(2/3)/(N sqrt(M)).
