@@ -370,16 +370,26 @@ void MacSolver::project(grid::Field<Real>& u, Real dts) {
   const Real inv_dx = 1 / p_.dx;
   {
     auto t = timers_.scope("wind.poisson");
+    Real umax = 0;  // over the low faces of owned cells: the scale of the divergence target
     for (int k = 0; k < n_.z; ++k)
       for (int j = 0; j < n_.y; ++j)
         for (int i = 0; i < n_.x; ++i) {
           const auto q = u.index(i, j, k);
           Real dv = 0;
-          for (int c = 0; c < 3; ++c) dv += u.component(c)[q + st[c]] - u.component(c)[q];
+          for (int c = 0; c < 3; ++c) {
+            dv += u.component(c)[q + st[c]] - u.component(c)[q];
+            umax = std::max(umax, std::fabs(u.component(c)[q]));
+          }
           div_.component(0)[q] = dv * inv_dx;
           psi_.component(0)[q] = phi_.component(0)[q] * dts;
         }
-    auto s = poisson_->solve(div_, psi_);
+    // The correction leaves div u = rhs - L psi per cell, so max |div u| dx / max|u| <= target
+    // once max |rhs - L psi| <= target umax / dx. The safety factor covers the change of max|u|
+    // by the correction itself.
+    constexpr Real kDivergenceSafety = 4;
+    umax = allreduce(umax, MPI_MAX, d_.comm());
+    const Real max_residual = p_.divergence_target * umax * inv_dx / kDivergenceSafety;
+    auto s = poisson_->solve(div_, psi_, max_residual);
     stats_.poisson_iterations += s.iterations;
     stats_.poisson_seconds += s.seconds;
   }
