@@ -29,6 +29,7 @@ struct SolveStats {
   double residual_norm = 0;  ///< final residual norm as reported by KSP
   double rhs_norm = 0;       ///< 2-norm of the (scaled) right-hand side
   double seconds = 0;
+  bool stopped_on_max_residual = false;  ///< the `max_residual` target ended the solve
 };
 
 /// \brief Solves L p = rhs. Options prefix `poisson_`; default `-poisson_ksp_type cg
@@ -49,7 +50,14 @@ class PoissonSolver {
   /// \brief Solve; `p` (owned cells) is the initial guess and the result. Throws
   /// std::runtime_error if KSP does not converge. With a null space (no Dirichlet face) the
   /// compatible part of rhs is used and the solution has zero mean over fluid cells.
-  SolveStats solve(const grid::Field<core::Real>& rhs, grid::Field<core::Real>& p);
+  /// `max_residual` > 0 also stops the solve as soon as max over cells |rhs - L p| <= max_residual
+  /// (checked on the true residual; the MAC projection passes its divergence target here), unless
+  /// the options set a tolerance explicitly (`-poisson_ksp_rtol`/`_atol`: then KSP's test alone).
+  SolveStats solve(const grid::Field<core::Real>& rhs, grid::Field<core::Real>& p,
+                   double max_residual = 0);
+  /// \brief True when the options set -poisson_ksp_rtol or -poisson_ksp_atol (`max_residual`
+  /// of solve() is then ignored).
+  bool explicit_tolerance() const;
   /// \brief True when the operator has the constant (over fluid cells) null space.
   bool singular() const { return singular_; }
   /// \brief The DMDA's owned box in global cells (equals decomp.local_box(); checked in tests).

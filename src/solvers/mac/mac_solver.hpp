@@ -55,7 +55,11 @@ struct MacParams {
   bool initial_from_inflow = true;  ///< start from the inflow profile where there is inflow
   Vec3 body_force{};                ///< uniform force per unit mass (m/s^2), e.g. a channel drive
   std::function<bool(const Index3&)> solid;  ///< global cell -> solid obstacle (optional)
-  std::string poisson_options;               ///< PETSc options under -poisson_
+  /// Relative divergence max|div u| dx / max|u| the projection leaves: the Poisson solve stops
+  /// once its largest cell residual guarantees this with a safety factor (docs/wind.md); 0 or an
+  /// explicit -poisson_ksp_rtol/_atol: KSP's tolerance alone.
+  Real divergence_target = 1e-10;
+  std::string poisson_options;  ///< PETSc options under -poisson_
   std::string poisson_options_key = "wind.poisson_options";
 };
 

@@ -104,6 +104,25 @@ TEST(Mac, ProjectionLeavesNoDivergence) {
   }
 }
 
+TEST(Mac, DefaultStopMeetsDivergenceGoal) {
+  // The default Poisson stop is the divergence target itself (MacParams::divergence_target,
+  // 1e-10): every projection of the wind case must leave a relative divergence <= 1e-10.
+  MacParams p = wind_case();
+  p.poisson_options = "";
+  grid::Decomposition d(MPI_COMM_WORLD, p.cells, periodic_of(p));
+  core::Timers t;
+  MacSolver s(d, p, t);
+  s.project_initial();
+  EXPECT_LE(s.relative_divergence(), 1e-10);
+  for (int st = 0; st < 6; ++st) {
+    s.step();
+    if (world_rank() == 0)
+      std::printf("step %d: relative divergence %.3e, %d Poisson iterations\n", st,
+                  s.last_stats().max_divergence, s.last_stats().poisson_iterations);
+    EXPECT_LE(s.last_stats().max_divergence, 1e-10);
+  }
+}
+
 TEST(Mac, SameFieldsOnOneRank) {
   MacParams p = wind_case();
   const int steps = 8;
