@@ -34,7 +34,8 @@ struct SolveStats {
 
 /// \brief Solves L p = rhs. Options prefix `poisson_`; default `-poisson_ksp_type cg
 /// -poisson_pc_type pfmg` (hypre PFMG on a MATHYPRESTRUCT matrix), unpreconditioned residual norm,
-/// rtol 1e-10; `gamg`, `hypre` (BoomerAMG) and `mg` (cell-centred PCMG) select the others.
+/// rtol 1e-10 or the caller's max-residual target, whichever comes first; `gamg`, `hypre`
+/// (BoomerAMG) and `mg` (cell-centred PCMG) select the others.
 class PoissonSolver {
  public:
   /// \param solid optional cell mask (1 solid, 0 fluid) with at least one valid ghost layer.
