@@ -48,7 +48,7 @@ double stream_triad(MPI_Comm comm) {
 // ../shared/peers/run-lbm-peer.sh next to the working directory or the source tree.
 std::string find_peer() {
   if (const char* env = std::getenv("BIOTA_LBM_PEER")) return env;
-  for (const std::string dir : {std::string("."), std::string(BIOTA_SOURCE_DIR)}) {
+  for (const std::string& dir : {std::string("."), std::string(BIOTA_SOURCE_DIR)}) {
     const auto p = std::filesystem::path(dir) / ".." / "shared" / "peers" / "run-lbm-peer.sh";
     if (std::filesystem::exists(p)) return std::filesystem::weakly_canonical(p).string();
   }
