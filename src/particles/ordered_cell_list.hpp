@@ -40,15 +40,22 @@ class OrderedCellList {
       nb_[0] = nb_[1] = nb_[2] = 1;
       return;
     }
+    // Bin coordinates once per point and axis (kept for the flat index below).
     long long lo[3], hi[3];
     const core::Real* c[3] = {x, y, z};
     for (int d = 0; d < 3; ++d) {
-      lo[d] = hi[d] = axis_bin(d, c[d][0]);
-      for (std::size_t i = 1; i < n; ++i) {
-        const long long b = axis_bin(d, c[d][i]);
-        lo[d] = std::min(lo[d], b);
-        hi[d] = std::max(hi[d], b);
+      cb_[d].resize(n);
+      long long* cb = cb_[d].data();
+      const core::Real* cd = c[d];
+      const core::Real o = origin_[d], s = inv_edge_;
+      long long l = static_cast<long long>(std::floor((cd[0] - o) * s)), h = l;
+      for (std::size_t i = 0; i < n; ++i) {
+        const long long b = static_cast<long long>(std::floor((cd[i] - o) * s));
+        cb[i] = b;
+        l = b < l ? b : l;
+        h = b > h ? b : h;
       }
+      lo[d] = l, hi[d] = h;
       lo_[d] = lo[d];
       nb_[d] = hi[d] - lo[d] + 1;
     }
@@ -56,30 +63,39 @@ class OrderedCellList {
     if (total > (1LL << 26))
       throw std::runtime_error("OrderedCellList: points span too many bins (stray particle?)");
     head_.assign(static_cast<std::size_t>(total) + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      bin_[i] = static_cast<std::size_t>(
-          flat(axis_bin(0, x[i]) - lo_[0], axis_bin(1, y[i]) - lo_[1], axis_bin(2, z[i]) - lo_[2]));
-      ++head_[bin_[i] + 1];
+    {
+      const long long *bx = cb_[0].data(), *by = cb_[1].data(), *bz = cb_[2].data();
+      for (std::size_t i = 0; i < n; ++i)
+        bin_[i] = static_cast<std::size_t>(flat(bx[i] - lo_[0], by[i] - lo_[1], bz[i] - lo_[2]));
     }
+    for (std::size_t i = 0; i < n; ++i) ++head_[bin_[i] + 1];
     for (std::size_t b = 1; b < head_.size(); ++b) head_[b] += head_[b - 1];
     order_.resize(n);
     fill_.assign(head_.begin(), head_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order_[fill_[bin_[i]]++] = i;
-    // Ascending id inside each bin (bins hold a handful of points: insertion sort).
-    for (std::size_t b = 0; b + 1 < head_.size(); ++b)
-      for (std::size_t k = head_[b] + 1; k < head_[b + 1]; ++k) {
+    // Ascending id inside each bin (bins hold a handful of points: insertion sort), on the ids
+    // copied in slot order (contiguous) with the slot -> index map alongside.
+    sx_.resize(n), sy_.resize(n), sz_.resize(n), sid_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) sid_[k] = id[order_[k]];
+    for (std::size_t b = 0; b + 1 < head_.size(); ++b) {
+      const std::size_t first = head_[b], last = head_[b + 1];
+      for (std::size_t k = first + 1; k < last; ++k) {
+        const core::GlobalId vid = sid_[k];
+        if (sid_[k - 1] <= vid) continue;
         const std::size_t v = order_[k];
         std::size_t m = k;
-        while (m > head_[b] && id[order_[m - 1]] > id[v]) {
+        while (m > first && sid_[m - 1] > vid) {
           order_[m] = order_[m - 1];
+          sid_[m] = sid_[m - 1];
           --m;
         }
         order_[m] = v;
+        sid_[m] = vid;
       }
-    sx_.resize(n), sy_.resize(n), sz_.resize(n), sid_.resize(n);
+    }
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = order_[k];
-      sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i], sid_[k] = id[i];
+      sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i];
     }
   }
 
@@ -126,6 +142,11 @@ class OrderedCellList {
   std::size_t size() const { return n_; }
   /// \brief One past the last slot of the bin that holds slot k (a bin's slots are contiguous).
   std::size_t bin_end(std::size_t k) const { return head_[bin_[order_[k]] + 1]; }
+  /// \brief Number of bins of the last build(); bin b holds slots [bin_begin(b), bin_begin(b + 1)),
+  /// bins in ascending flat index (the slot order).
+  std::size_t bins() const { return head_.size() - 1; }
+  /// \brief First slot of bin b (b <= bins(); bin_begin(bins()) == size()).
+  std::size_t bin_begin(std::size_t b) const { return head_[b]; }
   /// \brief Original index of slot k.
   std::size_t index(std::size_t k) const { return order_[k]; }
   /// \brief Positions and ids in slot order.
@@ -149,6 +170,7 @@ class OrderedCellList {
   std::vector<std::size_t> head_, bin_, order_, fill_;
   std::vector<core::Real> sx_, sy_, sz_;
   std::vector<core::GlobalId> sid_;
+  std::vector<long long> cb_[3];  // per-axis bin of each point (build() scratch)
 };
 
 }  // namespace biota::particles

@@ -418,65 +418,69 @@ void FlockScenario::step() {
     const double* Y = cells_.y();
     const double* Z = cells_.z();
     const core::GlobalId* ids = cells_.ids();
-    // Slots of the current bin, and the bin whose candidates bin_ holds (by its end slot).
-    std::size_t bin_first = 0, bin_last = 0, gathered_end = 0;
-    for (std::size_t k = 0; k < cells_.size(); ++k) {
-      if (k == bin_last) bin_first = k, bin_last = cells_.bin_end(k);
-      const std::size_t i = cells_.index(k);
-      if (i >= no) continue;
-      const core::GlobalId id = ids[k];
-      if (!flying(id)) continue;
-      const Vec3 x{X[k], Y[k], Z[k]}, v{svx_[k], svy_[k], svz_[k]};
-      if (core::dot(v, v) == 0) {  // first flying frame: launch (chaos-game order, spec 2.7)
-        launch[i] = 1;
-        continue;
-      }
-      if (!is_prey(id)) {  // predator: chase the nearest prey, stay inside
-        Vec3 chase{};
-        for (std::size_t p = 0; p < preds.size(); ++p)
-          if (preds[p].id == id && near[p].id != kNone)
-            chase = mf::chase(min_image(near[p].x - x), w_chase_);
-        const Vec3 rules[2] = {mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_), chase};
-        acc[i] = mf::prioritized_sum(rules, pred_amax_);
-        continue;
-      }
-      const double dstar = set_->real(a_dstar_)[i];
-      mf::NeighbourSums s;
-      if (align_mode_ == mf::AlignmentMode::kAverage) {
-        if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
-          bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
-                      eligible_.data(), R2);
-          gathered_end = bin_last;
+    // Bin by bin (the slot order, no per-slot bin lookup); gathered_end: end slot of the bin whose
+    // candidates bin_ holds.
+    std::size_t gathered_end = 0;
+    const double* dstar_of = set_->real(a_dstar_);
+    for (std::size_t b = 0, nbins = cells_.bins(); b < nbins; ++b) {
+      const std::size_t bin_first = cells_.bin_begin(b), bin_last = cells_.bin_begin(b + 1);
+      for (std::size_t k = bin_first; k < bin_last; ++k) {
+        const std::size_t i = cells_.index(k);
+        if (i >= no) continue;
+        const core::GlobalId id = ids[k];
+        if (!flying(id)) continue;
+        const Vec3 x{X[k], Y[k], Z[k]}, v{svx_[k], svy_[k], svz_[k]};
+        if (core::dot(v, v) == 0) {  // first flying frame: launch (chaos-game order, spec 2.7)
+          launch[i] = 1;
+          continue;
         }
-        s = bin_.sums(x, v, R2, fov_cos_, dstar);
-      } else {
-        cells_.for_each_near(x, [&](std::size_t j) {
-          const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
-          const double r2 = core::dot(d, d);
-          if (r2 >= R2 || !eligible_[j]) return;
-          if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
-          mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
-        });
-      }
-      neighbour_sum_ += s.count;
-      ++prey_updates_;
-      // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
-      Vec3 flee{};
-      if (step_ >= pred_start_step_ && !preds.empty()) {
-        double best = std::numeric_limits<double>::infinity();
-        Vec3 dp{};
-        for (const auto& p : preds) {
-          const Vec3 d = min_image(p.x - x);
-          if (core::dot(d, d) < best) best = core::dot(d, d), dp = d;
+        if (!is_prey(id)) {  // predator: chase the nearest prey, stay inside
+          Vec3 chase{};
+          for (std::size_t p = 0; p < preds.size(); ++p)
+            if (preds[p].id == id && near[p].id != kNone)
+              chase = mf::chase(min_image(near[p].x - x), w_chase_);
+          const Vec3 rules[2] = {mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_), chase};
+          acc[i] = mf::prioritized_sum(rules, pred_amax_);
+          continue;
         }
-        flee = fleeing(id) ? mf::flee(dp, std::numeric_limits<double>::infinity(), w_flee_boost_)
-                           : mf::flee(dp, flee_radius_, w_flee_);
+        const double dstar = dstar_of[i];
+        mf::NeighbourSums s;
+        if (align_mode_ == mf::AlignmentMode::kAverage) {
+          if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
+            bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
+                        eligible_.data(), R2);
+            gathered_end = bin_last;
+          }
+          s = bin_.sums(x, v, R2, fov_cos_, dstar);
+        } else {
+          cells_.for_each_near(x, [&](std::size_t j) {
+            const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+            const double r2 = core::dot(d, d);
+            if (r2 >= R2 || !eligible_[j]) return;
+            if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
+            mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
+          });
+        }
+        neighbour_sum_ += s.count;
+        ++prey_updates_;
+        // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
+        Vec3 flee{};
+        if (step_ >= pred_start_step_ && !preds.empty()) {
+          double best = std::numeric_limits<double>::infinity();
+          Vec3 dp{};
+          for (const auto& p : preds) {
+            const Vec3 d = min_image(p.x - x);
+            if (core::dot(d, d) < best) best = core::dot(d, d), dp = d;
+          }
+          flee = fleeing(id) ? mf::flee(dp, std::numeric_limits<double>::infinity(), w_flee_boost_)
+                             : mf::flee(dp, flee_radius_, w_flee_);
+        }
+        const Vec3 rules[5] = {flee, mf::separation(s, w_sep_),
+                               mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_),
+                               mf::alignment(s, v, w_ali_, align_mode_), mf::cohesion(s, w_coh_)};
+        const double amax = fleeing(id) ? std::max(a_max_, w_flee_boost_) : a_max_;
+        acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), heading_angle(id));
       }
-      const Vec3 rules[5] = {flee, mf::separation(s, w_sep_),
-                             mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_),
-                             mf::alignment(s, v, w_ali_, align_mode_), mf::cohesion(s, w_coh_)};
-      const double amax = fleeing(id) ? std::max(a_max_, w_flee_boost_) : a_max_;
-      acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), heading_angle(id));
     }
     for (std::size_t i = 0; i < no; ++i) {
       const core::GlobalId id = set_->id(i);
