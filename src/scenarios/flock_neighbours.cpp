@@ -26,7 +26,6 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
   const __m512d lx = _mm512_set1_pd(lo.x), ly = _mm512_set1_pd(lo.y), lz = _mm512_set1_pd(lo.z);
   const __m512d hx = _mm512_set1_pd(hi.x), hy = _mm512_set1_pd(hi.y), hz = _mm512_set1_pd(hi.z);
   const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
-  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
   auto gap = [&](__m512d c, __m512d l, __m512d h) {
     return _mm512_max_pd(_mm512_max_pd(_mm512_sub_pd(l, c), _mm512_sub_pd(c, h)), zero);
   };
