@@ -1,8 +1,10 @@
 """Shared set-up of the pvpython render scripts (render_*.py): a white render view and the step of
 a .pvd series chosen by index. Imported from the scripts' own directory."""
 import os
+import sys
 
-from paraview.simple import GetActiveViewOrCreate, OpenDataFile, UpdatePipeline
+from paraview.simple import (GetActiveViewOrCreate, OpenDataFile, SaveScreenshot,
+                             UpdatePipeline)
 
 
 def white_view(size=(1200, 900)):
@@ -29,3 +31,18 @@ def open_series_at(view, out_dir, pvd_name, index):
     UpdatePipeline(time=t, proxy=reader)
     view.ViewTime = t
     return reader, t
+
+
+def png_argument(path):
+    """The image path of a render script's command line; a path that is not a .png is a usage error
+    (ParaView would only log 'Unknown file format' and the script would exit 0 without an image)."""
+    if not path.lower().endswith(".png"):
+        sys.exit(f"{os.path.basename(sys.argv[0])}: the image path must end in .png, got '{path}'")
+    return path
+
+
+def save_png(view, png, size=(1200, 900)):
+    """SaveScreenshot, then a non-zero exit if no image was written."""
+    SaveScreenshot(png, view, ImageResolution=list(size))
+    if not os.path.isfile(png):
+        sys.exit(f"{os.path.basename(sys.argv[0])}: no image written to '{png}'")

@@ -10,11 +10,11 @@ step (default: the last).
 import os
 import sys
 
-from pv_common import open_series_at, white_view
+from pv_common import open_series_at, png_argument, save_png, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
-                             OpenDataFile, Render, SaveScreenshot, Show, UpdatePipeline)
+                             OpenDataFile, Render, Show, UpdatePipeline)
 
-out_dir, png = sys.argv[1], sys.argv[2]
+out_dir, png = sys.argv[1], png_argument(sys.argv[2])
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
 view = white_view()
 boids, t = open_series_at(view, out_dir, "flock_boids.pvd", index)
@@ -39,5 +39,5 @@ if os.path.exists(pile):
 
 view.ResetCamera()
 Render(view)
-SaveScreenshot(png, view, ImageResolution=[1200, 900])
+save_png(view, png)
 print("wrote", png, "time", t)

@@ -10,12 +10,12 @@ looks from the front, above, into the space under the roof at the back.
 import os
 import sys
 
-from pv_common import open_series_at, white_view
+from pv_common import open_series_at, png_argument, save_png, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
-                             GetScalarBar, OpenDataFile, Render, SaveScreenshot, Show,
+                             GetScalarBar, OpenDataFile, Render, Show,
                              UpdatePipeline)
 
-out_dir, png = sys.argv[1], sys.argv[2]
+out_dir, png = sys.argv[1], png_argument(sys.argv[2])
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
 view = white_view()
 terrain, t = open_series_at(view, out_dir, "moss_surface.pvd", index)
@@ -48,5 +48,5 @@ view.CameraPosition = [1.0, 2.6, 4.2]
 view.CameraFocalPoint = [1.0, 0.4, 0.8]
 view.CameraViewUp = [0.0, 1.0, 0.0]
 Render(view)
-SaveScreenshot(png, view, ImageResolution=[1200, 900])
+save_png(view, png)
 print("wrote", png, "day", t / 86400.0)

@@ -9,11 +9,11 @@ and, if present, <output.dir>/seaweed.pvd (LBM fields; a vertical slice coloured
 import os
 import sys
 
-from pv_common import open_series_at, white_view
+from pv_common import open_series_at, png_argument, save_png, white_view
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, Glyph, OpenDataFile, Render,
-                             SaveScreenshot, Show, Slice, UpdatePipeline)
+                             Show, Slice, UpdatePipeline)
 
-out_dir, png = sys.argv[1], sys.argv[2]
+out_dir, png = sys.argv[1], png_argument(sys.argv[2])
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
 view = white_view()
 parts, t = open_series_at(view, out_dir, "seaweed_particles.pvd", index)
@@ -42,5 +42,5 @@ view.CameraPosition = [0.5, -1.6, 0.9]
 view.CameraFocalPoint = [0.5, 0.5, 0.45]
 view.CameraViewUp = [0, 0, 1]
 Render(view)
-SaveScreenshot(png, view, ImageResolution=[1200, 900])
+save_png(view, png)
 print("wrote", png, "time", t)

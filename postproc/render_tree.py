@@ -10,12 +10,12 @@ line upstream of the trees). `index` picks the time step (default: the last).
 import os
 import sys
 
-from pv_common import open_series_at, white_view
+from pv_common import open_series_at, png_argument, save_png, white_view
 from paraview.simple import (CellDatatoPointData, ColorBy, GetActiveViewOrCreate, OpenDataFile,
-                             Render, SaveScreenshot, Show, Slice, StreamTracer, Tube,
+                             Render, Show, Slice, StreamTracer, Tube,
                              UpdatePipeline)
 
-out_dir, png = sys.argv[1], sys.argv[2]
+out_dir, png = sys.argv[1], png_argument(sys.argv[2])
 index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
 view = white_view()
 trees, t = open_series_at(view, out_dir, "tree_nodes.pvd", index)
@@ -58,5 +58,5 @@ view.CameraFocalPoint = centre
 view.CameraPosition = [centre[0] - 0.6 * h, centre[1] - 2.2 * h, centre[2] + 0.5 * h]
 view.CameraViewUp = [0, 0, 1]
 Render(view)
-SaveScreenshot(png, view, ImageResolution=[1200, 900])
+save_png(view, png)
 print("wrote", png, "time", t)
