@@ -468,9 +468,8 @@ Vec3 MacSolver::max_speed() const {
   return {g[0], g[1], g[2]};
 }
 
-std::vector<double> MacSolver::divergence() const {
-  std::vector<double> out;
-  out.reserve(n_.product());
+template <class Visit>
+void MacSolver::for_each_cell_divergence(Visit&& visit) const {
   const std::ptrdiff_t st[3] = {1, u_.stride_y(), u_.stride_z()};
   for (int k = 0; k < n_.z; ++k)
     for (int j = 0; j < n_.y; ++j)
@@ -478,23 +477,20 @@ std::vector<double> MacSolver::divergence() const {
         const auto q = u_.index(i, j, k);
         Real dv = 0;
         for (int c = 0; c < 3; ++c) dv += u_.component(c)[q + st[c]] - u_.component(c)[q];
-        out.push_back(dv / p_.dx);
+        visit(dv / p_.dx);
       }
+}
+
+std::vector<double> MacSolver::divergence() const {
+  std::vector<double> out;
+  out.reserve(n_.product());
+  for_each_cell_divergence([&](Real div) { out.push_back(div); });
   return out;
 }
 
 Real MacSolver::relative_divergence() const {
-  // The divergence() loop without its output vector: this runs after every step.
-  double m = 0;
-  const std::ptrdiff_t st[3] = {1, u_.stride_y(), u_.stride_z()};
-  for (int k = 0; k < n_.z; ++k)
-    for (int j = 0; j < n_.y; ++j)
-      for (int i = 0; i < n_.x; ++i) {
-        const auto q = u_.index(i, j, k);
-        Real dv = 0;
-        for (int c = 0; c < 3; ++c) dv += u_.component(c)[q + st[c]] - u_.component(c)[q];
-        m = std::max(m, std::fabs(dv / p_.dx));
-      }
+  double m = 0;  // no per-cell vector: this runs after every step
+  for_each_cell_divergence([&](Real div) { m = std::max(m, std::fabs(div)); });
   m = allreduce(m, MPI_MAX, d_.comm());
   const Vec3 s = max_speed();
   const Real umax = std::max({s.x, s.y, s.z});

@@ -140,6 +140,9 @@ class MacSolver {
   std::string poisson_description() const { return poisson_->description(); }
 
  private:
+  /// Calls visit(div u) (1/s) for every owned cell in storage order.
+  template <class Visit>
+  void for_each_cell_divergence(Visit&& visit) const;
   void compute_rhs(const grid::Field<Real>& u, grid::Field<Real>& rhs);  // F(u) on owned faces
   // out = a_old u_old + (1-a_old)(u + dt F(u)) on owned and boundary faces; out may alias u_old,
   // not u
