@@ -124,6 +124,49 @@ inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
   }
 }
 
+#if defined(__AVX512F__)
+/// \brief The field-of-view test of perceives() on 8 lanes: v.d >= 0 and (v.d)^2 >= c2 v2 r2
+/// (narrow, fov_cos >= 0), else v.d >= 0 or (v.d)^2 <= c2 v2 r2; cv = c2 v2. Separate multiplies
+/// and adds, as in the scalar test.
+[[gnu::always_inline]] inline __mmask8 in_view8(__m512d vx, __m512d vy, __m512d vz, __m512d dx,
+                                                __m512d dy, __m512d dz, __m512d cv, __m512d r2,
+                                                bool narrow) {
+  const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
+                                   _mm512_mul_pd(vz, dz));
+  const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
+  const __mmask8 ahead = _mm512_cmp_pd_mask(vd, _mm512_setzero_pd(), _CMP_GE_OQ);
+  return narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
+                : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
+}
+#endif
+
+#if defined(__AVX2__)
+/// \brief in_view8() on 4 lanes, as an all-ones/all-zeros lane mask.
+[[gnu::always_inline]] inline __m256d in_view4(__m256d vx, __m256d vy, __m256d vz, __m256d dx,
+                                               __m256d dy, __m256d dz, __m256d cv, __m256d r2,
+                                               bool narrow) {
+  const __m256d vd = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vx, dx), _mm256_mul_pd(vy, dy)),
+                                   _mm256_mul_pd(vz, dz));
+  const __m256d vd2 = _mm256_mul_pd(vd, vd), lim = _mm256_mul_pd(cv, r2);
+  const __m256d ahead = _mm256_cmp_pd(vd, _mm256_setzero_pd(), _CMP_GE_OQ);
+  return narrow ? _mm256_and_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_GE_OQ))
+                : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ));
+}
+
+/// \brief For each 4-bit lane mask, the 32-bit lane permutation (_mm256_permutevar8x32) that
+/// packs the selected 64-bit lanes of a 4-lane vector to the front, in order.
+inline constexpr auto kPack4 = [] {
+  std::array<std::array<int, 8>, 16> t{};
+  for (int m = 0; m < 16; ++m) {
+    int o = 0;
+    for (int l = 0; l < 4; ++l)
+      if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
+    for (; o < 8; ++o) t[m][o] = 0;
+  }
+  return t;
+}();
+#endif
+
 /// \brief The accepted candidates of a block, compacted: writes base + k for every candidate k
 /// with `eligible && perceives(...)` to `out` in increasing k and returns their number. `out` needs
 /// room for n + 8 entries, `scratch` for n (used by the portable path only).
@@ -157,14 +200,7 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
                  _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ) &
                  _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
                                              _mm512_set1_epi64(-1));
-    if (!all_round) {
-      const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
-                                       _mm512_mul_pd(vz, dz));
-      const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
-      const __mmask8 ahead = _mm512_cmp_pd_mask(vd, zero, _CMP_GE_OQ);
-      m &= narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
-                  : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
-    }
+    if (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
     const __m512i idx =
         _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(base + k)), lanes);
     _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
@@ -172,17 +208,6 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
   }
 #elif defined(__AVX2__)
   (void)scratch;
-  // 32-bit lane permutations that pack the selected 64-bit lanes of a 4-bit mask to the front.
-  static constexpr auto kPack = [] {
-    std::array<std::array<int, 8>, 16> t{};
-    for (int m = 0; m < 16; ++m) {
-      int o = 0;
-      for (int l = 0; l < 4; ++l)
-        if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
-      for (; o < 8; ++o) t[m][o] = 0;
-    }
-    return t;
-  }();
   const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
   const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
   const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
@@ -213,18 +238,11 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
         _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
     m = _mm256_and_pd(m, _mm256_castsi256_pd(_mm256_andnot_si256(
                              _mm256_cmpeq_epi64(el, _mm256_setzero_si256()), tm)));
-    if (!all_round) {
-      const __m256d vd = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vx, dx), _mm256_mul_pd(vy, dy)),
-                                       _mm256_mul_pd(vz, dz));
-      const __m256d vd2 = _mm256_mul_pd(vd, vd), lim = _mm256_mul_pd(cv, r2);
-      const __m256d ahead = _mm256_cmp_pd(vd, zero, _CMP_GE_OQ);
-      m = _mm256_and_pd(m, narrow ? _mm256_and_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_GE_OQ))
-                                  : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ)));
-    }
+    if (!all_round) m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
     const int bits = _mm256_movemask_pd(m);
     const __m256i idx =
         _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(base + k)), lanes);
-    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack[bits].data()));
+    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
                         _mm256_permutevar8x32_epi32(idx, perm));
     cnt += static_cast<std::size_t>(__builtin_popcount(bits));
@@ -238,21 +256,6 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
 #endif
   return cnt;
 }
-
-#if defined(__AVX2__)
-/// \brief For each 4-bit lane mask, the 32-bit lane permutation (_mm256_permutevar8x32) that
-/// packs the selected 64-bit lanes of a 4-lane vector to the front, in order.
-inline constexpr auto kPack4 = [] {
-  std::array<std::array<int, 8>, 16> t{};
-  for (int m = 0; m < 16; ++m) {
-    int o = 0;
-    for (int l = 0; l < 4; ++l)
-      if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
-    for (; o < 8; ++o) t[m][o] = 0;
-  }
-  return t;
-}();
-#endif
 
 /// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
 /// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
@@ -281,14 +284,7 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
                                      _mm512_mul_pd(dz, dz));
     __mmask8 m =
         tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
-    if (!all_round) {
-      const __m512d vd = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vx, dx), _mm512_mul_pd(vy, dy)),
-                                       _mm512_mul_pd(vz, dz));
-      const __m512d vd2 = _mm512_mul_pd(vd, vd), lim = _mm512_mul_pd(cv, r2);
-      const __mmask8 ahead = _mm512_cmp_pd_mask(vd, zero, _CMP_GE_OQ);
-      m &= narrow ? __mmask8(ahead & _mm512_cmp_pd_mask(vd2, lim, _CMP_GE_OQ))
-                  : __mmask8(ahead | _mm512_cmp_pd_mask(vd2, lim, _CMP_LE_OQ));
-    }
+    if (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
     const __m512i idx = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)), lanes);
     _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
     _mm512_storeu_pd(out_r2 + cnt, _mm512_maskz_compress_pd(m, r2));
@@ -318,14 +314,7 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
     __m256d m = _mm256_and_pd(
         _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ)),
         _mm256_castsi256_pd(tm));
-    if (!all_round) {
-      const __m256d vd = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(vx, dx), _mm256_mul_pd(vy, dy)),
-                                       _mm256_mul_pd(vz, dz));
-      const __m256d vd2 = _mm256_mul_pd(vd, vd), lim = _mm256_mul_pd(cv, r2);
-      const __m256d ahead = _mm256_cmp_pd(vd, zero, _CMP_GE_OQ);
-      m = _mm256_and_pd(m, narrow ? _mm256_and_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_GE_OQ))
-                                  : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ)));
-    }
+    if (!all_round) m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
     const int bits = _mm256_movemask_pd(m);
     const __m256i idx = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
     const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
