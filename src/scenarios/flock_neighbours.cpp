@@ -11,15 +11,15 @@ using core::Vec3;
 namespace {
 
 /// \brief Copy the candidates k in [first, last) that are eligible and whose squared distance to
-/// the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z, vx, vy, vz) to out, in
-/// order; returns their number.
+/// the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z) to out, and their slots k
+/// to out_slot, in order; returns their number.
 /// The outputs need room for last - first + 8 entries. The box distance is rounded the way the
 /// per-boid r2 is (((ex² + ey²) + ez²), each e no larger than the boid's |d|): rounding is
 /// monotonic, so it never exceeds the r2 of any point in the box, and every candidate that a
 /// point of the box can perceive is kept.
-std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligible,
+std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligible,
                           std::size_t first, std::size_t last, const Vec3& lo, const Vec3& hi,
-                          double radius2, double* const out[6]) {
+                          double radius2, double* const out[3], std::uint64_t* out_slot) {
   const double *X = in[0], *Y = in[1], *Z = in[2];
   std::size_t n = 0, k = first;
 #if defined(__AVX512F__)
@@ -43,9 +43,9 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
     _mm512_storeu_pd(out[0] + n, _mm512_maskz_compress_pd(m, cx));
     _mm512_storeu_pd(out[1] + n, _mm512_maskz_compress_pd(m, cy));
     _mm512_storeu_pd(out[2] + n, _mm512_maskz_compress_pd(m, cz));
-    for (int c = 3; c < 6; ++c)
-      _mm512_storeu_pd(out[c] + n,
-                       _mm512_maskz_compress_pd(m, _mm512_maskz_loadu_pd(tm, in[c] + k)));
+    const __m512i slots = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)),
+                                           _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0));
+    _mm512_storeu_si512(out_slot + n, _mm512_maskz_compress_epi64(m, slots));
     n += static_cast<std::size_t>(__builtin_popcount(m));
   }
 #elif defined(__AVX2__)
@@ -55,18 +55,27 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
   auto gap = [&](__m256d c, __m256d l, __m256d h) {
     return _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(l, c), _mm256_sub_pd(c, h)), zero);
   };
-  // Full vectors only; the tail (< 4 candidates) takes the scalar loop below, which keeps the
-  // same candidates (a superset filter: which path decides does not matter).
-  for (; k + 4 <= last; k += 4) {
-    const __m256d cx = _mm256_loadu_pd(X + k), cy = _mm256_loadu_pd(Y + k),
-                  cz = _mm256_loadu_pd(Z + k);
+  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
+  // The tail (< 4 candidates) through the same code with masked loads (a superset filter: which
+  // path decides does not matter; the scalar loop cost ~25 instructions per tail candidate).
+  for (; k < last; k += 4) {
+    const std::size_t left = last - k;
+    const bool full = left >= 4;  // full vectors: plain loads (maskload is slow on AMD)
+    const __m256i tm =
+        full ? _mm256_set1_epi64x(-1)
+             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
+    const __m256d cx = full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm);
+    const __m256d cy = full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm);
+    const __m256d cz = full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm);
     const __m256d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
     const __m256d e2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
                                      _mm256_mul_pd(ez, ez));
-    const __m256i el = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(eligible + k));
-    const __m256d m =
-        _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
-                         _mm256_cmp_pd(e2, rr, _CMP_LT_OQ));
+    const auto* ep = reinterpret_cast<const long long*>(eligible + k);
+    const __m256i el = full ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ep))
+                            : _mm256_maskload_epi64(ep, tm);
+    const __m256d m = _mm256_andnot_pd(
+        _mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
+        _mm256_and_pd(_mm256_cmp_pd(e2, rr, _CMP_LT_OQ), _mm256_castsi256_pd(tm)));
     const int bits = _mm256_movemask_pd(m);
     const __m256i perm =
         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(mf::kPack4[bits].data()));
@@ -76,17 +85,20 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
     _mm256_storeu_pd(out[0] + n, pack(cx));
     _mm256_storeu_pd(out[1] + n, pack(cy));
     _mm256_storeu_pd(out[2] + n, pack(cz));
-    for (int c = 3; c < 6; ++c) _mm256_storeu_pd(out[c] + n, pack(_mm256_loadu_pd(in[c] + k)));
+    const __m256i slots = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_slot + n),
+                        _mm256_permutevar8x32_epi32(slots, perm));
     n += static_cast<std::size_t>(__builtin_popcount(bits));
   }
 #endif
-#if !defined(__AVX512F__)
+#if !defined(__AVX512F__) && !defined(__AVX2__)
   // Branch-free: write, then advance (the compiler keeps this scalar; cheap next to the mask).
   for (; k < last; ++k) {
     const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);
     const double ey = std::max(std::max(lo.y - Y[k], Y[k] - hi.y), 0.0);
     const double ez = std::max(std::max(lo.z - Z[k], Z[k] - hi.z), 0.0);
-    for (int c = 0; c < 6; ++c) out[c][n] = in[c][k];
+    for (int c = 0; c < 3; ++c) out[c][n] = in[c][k];
+    out_slot[n] = k;
     n += (eligible[k] != 0) & (ex * ex + ey * ey + ez * ez < radius2);
   }
 #endif
@@ -96,10 +108,11 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
 }  // namespace
 
 void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t first,
-                           std::size_t last, const double* vx, const double* vy, const double* vz,
+                           std::size_t last, const double* pos4, const double* vel4,
                            const std::uint64_t* eligible, double radius2) {
   const double *X = cells.x(), *Y = cells.y(), *Z = cells.z();
-  const double* const in[6] = {X, Y, Z, vx, vy, vz};
+  const double* const in[3] = {X, Y, Z};
+  pos4_ = pos4, vel4_ = vel4;
   Vec3 lo{X[first], Y[first], Z[first]}, hi = lo;
   for (std::size_t k = first + 1; k < last; ++k) {
     lo = {std::min(lo.x, X[k]), std::min(lo.y, Y[k]), std::min(lo.z, Z[k])};
@@ -107,11 +120,14 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
   }
   n_ = 0;
   cells.for_each_near_block(lo, [&](std::size_t row_first, std::size_t row_last) {
-    if (c_[0].size() < n_ + (row_last - row_first) + 8)
-      for (auto& c : c_) c.resize(2 * (n_ + (row_last - row_first)) + 64);
-    double* const out[6] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_,
-                            c_[3].data() + n_, c_[4].data() + n_, c_[5].data() + n_};
-    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out);
+    if (slot_.size() < n_ + (row_last - row_first) + 8) {
+      const std::size_t room = 2 * (n_ + (row_last - row_first)) + 64;
+      for (auto& c : c_) c.resize(room);
+      slot_.resize(room);
+    }
+    double* const out[3] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_};
+    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out,
+                        slot_.data() + n_);
   });
   if (acc_.size() < n_ + 8) acc_.resize(2 * n_ + 8), acc_r2_.resize(2 * n_ + 8);
 }
@@ -124,24 +140,48 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   mf::NeighbourSums s;
   const double d2 = d_star * d_star;
   const std::uint64_t* acc = acc_.data();  // locals: no reloads via `this`
+  const std::uint64_t* slot = slot_.data();
   const double* r2s = acc_r2_.data();
-  const double *X = c_[0].data(), *Y = c_[1].data(), *Z = c_[2].data();
-  const double *VX = c_[3].data(), *VY = c_[4].data(), *VZ = c_[5].data();
-  // The sums of accumulate_neighbour(), in the same order (bitwise), in locals: the result `s`
-  // may alias the inputs as far as the compiler knows, so summing into it stored every step.
-  Vec3 sep{}, vel{}, pos{};
+  const double *P4 = pos4_, *V4 = vel4_;
+  // The sums of accumulate_neighbour(), in the same order (bitwise). A neighbour's (x, y, z, 0)
+  // fills the lanes of one vector: each component still gets the same adds in the same order.
+#if defined(__AVX2__)
+  const __m256d xb = _mm256_setr_pd(x.x, x.y, x.z, 0.0);
+  __m256d sep = _mm256_setzero_pd(), vel = _mm256_setzero_pd(), pos = _mm256_setzero_pd();
   for (std::size_t a = 0; a < cnt; ++a) {
-    const std::size_t j = acc[a];
-    const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+    const std::size_t k = slot[acc[a]];
+    const __m256d d = _mm256_sub_pd(_mm256_loadu_pd(P4 + 4 * k), xb);
     const double r2 = r2s[a];  // = core::dot(d, d), from the perception test
     if (r2 < d2) {             // the square root only for the few pairs closer than d*
       const double r = std::sqrt(r2);
+      sep = _mm256_sub_pd(sep, _mm256_mul_pd(d, _mm256_set1_pd((d_star - r) / r)));
+    }
+    vel = _mm256_add_pd(vel, _mm256_loadu_pd(V4 + 4 * k));
+    pos = _mm256_add_pd(pos, d);
+  }
+  alignas(32) double out[3][4];
+  _mm256_store_pd(out[0], sep), _mm256_store_pd(out[1], vel), _mm256_store_pd(out[2], pos);
+  s.separation = {out[0][0], out[0][1], out[0][2]};
+  s.velocity = {out[1][0], out[1][1], out[1][2]};
+  s.position = {out[2][0], out[2][1], out[2][2]};
+#else
+  // In locals: the result `s` may alias the inputs as far as the compiler knows, so summing
+  // into it stored every step.
+  Vec3 sep{}, vel{}, pos{};
+  for (std::size_t a = 0; a < cnt; ++a) {
+    const double* p = P4 + 4 * slot[acc[a]];
+    const double* u = V4 + 4 * slot[acc[a]];
+    const Vec3 d{p[0] - x.x, p[1] - x.y, p[2] - x.z};
+    const double r2 = r2s[a];
+    if (r2 < d2) {
+      const double r = std::sqrt(r2);
       sep -= d * ((d_star - r) / r);
     }
-    vel += Vec3{VX[j], VY[j], VZ[j]};
+    vel += Vec3{u[0], u[1], u[2]};
     pos += d;
   }
   s.separation = sep, s.velocity = vel, s.position = pos;
+#endif
   s.count = static_cast<int>(cnt);
   return s;
 }
