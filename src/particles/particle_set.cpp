@@ -144,8 +144,7 @@ void ParticleSet::unpack(std::size_t i, bool ghost_only, const double* in) {
     if (ghost_only ? ughost_[c] : umig_[c]) ucol_[c][i] = std::bit_cast<std::uint64_t>(*in++);
 }
 
-void ParticleSet::append_ghost_copies(const std::vector<std::size_t>& from, int axis,
-                                      Real shift) {
+void ParticleSet::append_ghost_copies(const std::vector<std::size_t>& from, int axis, Real shift) {
   const std::size_t first = n_total_, n = from.size();
   resize(n_owned_, first + n);
   for (std::size_t a = 0; a < layout_.reals().size(); ++a) {

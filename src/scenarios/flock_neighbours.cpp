@@ -56,26 +56,18 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
     return _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(l, c), _mm256_sub_pd(c, h)), zero);
   };
   const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
-  // The tail (< 4 candidates) through the same code with masked loads (a superset filter: which
-  // path decides does not matter; the scalar loop cost ~25 instructions per tail candidate).
-  for (; k < last; k += 4) {
-    const std::size_t left = last - k;
-    const bool full = left >= 4;  // full vectors: plain loads (maskload is slow on AMD)
-    const __m256i tm =
-        full ? _mm256_set1_epi64x(-1)
-             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
-    const __m256d cx = full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm);
-    const __m256d cy = full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm);
-    const __m256d cz = full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm);
+  // Full vectors only; the tail (< 4 candidates) takes the scalar loop below, which keeps the
+  // same candidates (a superset filter: which path decides does not matter).
+  for (; k + 4 <= last; k += 4) {
+    const __m256d cx = _mm256_loadu_pd(X + k), cy = _mm256_loadu_pd(Y + k),
+                  cz = _mm256_loadu_pd(Z + k);
     const __m256d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
     const __m256d e2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
                                      _mm256_mul_pd(ez, ez));
-    const auto* ep = reinterpret_cast<const long long*>(eligible + k);
-    const __m256i el = full ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ep))
-                            : _mm256_maskload_epi64(ep, tm);
-    const __m256d m = _mm256_andnot_pd(
-        _mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
-        _mm256_and_pd(_mm256_cmp_pd(e2, rr, _CMP_LT_OQ), _mm256_castsi256_pd(tm)));
+    const __m256i el = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(eligible + k));
+    const __m256d m =
+        _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
+                         _mm256_cmp_pd(e2, rr, _CMP_LT_OQ));
     const int bits = _mm256_movemask_pd(m);
     const __m256i perm =
         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(mf::kPack4[bits].data()));
@@ -91,7 +83,7 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
     n += static_cast<std::size_t>(__builtin_popcount(bits));
   }
 #endif
-#if !defined(__AVX512F__) && !defined(__AVX2__)
+#if !defined(__AVX512F__)
   // Branch-free: write, then advance (the compiler keeps this scalar; cheap next to the mask).
   for (; k < last; ++k) {
     const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);
@@ -126,8 +118,7 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
       slot_.resize(room);
     }
     double* const out[3] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_};
-    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out,
-                        slot_.data() + n_);
+    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out, slot_.data() + n_);
   });
   if (acc_.size() < n_ + 8) acc_.resize(2 * n_ + 8), acc_r2_.resize(2 * n_ + 8);
 }

@@ -450,8 +450,8 @@ void FlockScenario::step() {
         mf::NeighbourSums s;
         if (align_mode_ == mf::AlignmentMode::kAverage) {
           if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
-            bin_.gather(cells_, bin_first, bin_last, spos4_.data(), svel4_.data(),
-                        eligible_.data(), R2);
+            bin_.gather(cells_, bin_first, bin_last, spos4_.data(), svel4_.data(), eligible_.data(),
+                        R2);
             gathered_end = bin_last;
           }
           s = bin_.sums(x, v, R2, fov_cos_, dstar);
