@@ -104,7 +104,6 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
                            const std::uint64_t* eligible, double radius2) {
   const double *X = cells.x(), *Y = cells.y(), *Z = cells.z();
   const double* const in[3] = {X, Y, Z};
-  pos4_ = pos4, vel4_ = vel4;
   Vec3 lo{X[first], Y[first], Z[first]}, hi = lo;
   for (std::size_t k = first + 1; k < last; ++k) {
     lo = {std::min(lo.x, X[k]), std::min(lo.y, Y[k]), std::min(lo.z, Z[k])};
@@ -115,10 +114,25 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
     if (slot_.size() < n_ + (row_last - row_first) + 8) {
       const std::size_t room = 2 * (n_ + (row_last - row_first)) + 64;
       for (auto& c : c_) c.resize(room);
-      slot_.resize(room);
+      slot_.resize(room), p4_.resize(4 * room), v4_.resize(4 * room);
     }
     double* const out[3] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_};
+    const std::size_t n0 = n_;
     n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out, slot_.data() + n_);
+    // The kept candidates' position and velocity quadruples side by side in visit order: the
+    // sums then read L1-resident data (read through the slots, the per-slot arrays missed cache
+    // on every neighbour).
+    const std::uint64_t* slot = slot_.data();
+    double *p4 = p4_.data(), *v4 = v4_.data();
+    for (std::size_t i = n0; i < n_; ++i) {
+#if defined(__AVX2__)
+      _mm256_storeu_pd(p4 + 4 * i, _mm256_loadu_pd(pos4 + 4 * slot[i]));
+      _mm256_storeu_pd(v4 + 4 * i, _mm256_loadu_pd(vel4 + 4 * slot[i]));
+#else
+      std::copy_n(pos4 + 4 * slot[i], 4, p4 + 4 * i);
+      std::copy_n(vel4 + 4 * slot[i], 4, v4 + 4 * i);
+#endif
+    }
   });
   if (acc_.size() < n_ + 8) acc_.resize(2 * n_ + 8), acc_r2_.resize(2 * n_ + 8);
 }
@@ -131,16 +145,15 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   mf::NeighbourSums s;
   const double d2 = d_star * d_star;
   const std::uint64_t* acc = acc_.data();  // locals: no reloads via `this`
-  const std::uint64_t* slot = slot_.data();
   const double* r2s = acc_r2_.data();
-  const double *P4 = pos4_, *V4 = vel4_;
+  const double *P4 = p4_.data(), *V4 = v4_.data();
   // The sums of accumulate_neighbour(), in the same order (bitwise). A neighbour's (x, y, z, 0)
   // fills the lanes of one vector: each component still gets the same adds in the same order.
 #if defined(__AVX2__)
   const __m256d xb = _mm256_setr_pd(x.x, x.y, x.z, 0.0);
   __m256d sep = _mm256_setzero_pd(), vel = _mm256_setzero_pd(), pos = _mm256_setzero_pd();
   for (std::size_t a = 0; a < cnt; ++a) {
-    const std::size_t k = slot[acc[a]];
+    const std::size_t k = acc[a];
     const __m256d d = _mm256_sub_pd(_mm256_loadu_pd(P4 + 4 * k), xb);
     const double r2 = r2s[a];  // = core::dot(d, d), from the perception test
     if (r2 < d2) {             // the square root only for the few pairs closer than d*
@@ -160,8 +173,8 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   // into it stored every step.
   Vec3 sep{}, vel{}, pos{};
   for (std::size_t a = 0; a < cnt; ++a) {
-    const double* p = P4 + 4 * slot[acc[a]];
-    const double* u = V4 + 4 * slot[acc[a]];
+    const double* p = P4 + 4 * acc[a];
+    const double* u = V4 + 4 * acc[a];
     const Vec3 d{p[0] - x.x, p[1] - x.y, p[2] - x.z};
     const double r2 = r2s[a];
     if (r2 < d2) {

@@ -23,7 +23,7 @@ class BinNeighbours {
  public:
   /// \brief Gather the candidates of the bin holding slots [first, last) of `cells` (eligibility
   /// flags per slot), keeping those that may lie within `radius2` of a point of the bin. pos4 and
-  /// vel4 hold each slot's position and velocity as 4 doubles (x, y, z, 0); sums() reads them.
+  /// vel4 hold each slot's position and velocity as 4 doubles (x, y, z, 0).
   void gather(const particles::OrderedCellList& cells, std::size_t first, std::size_t last,
               const double* pos4, const double* vel4, const std::uint64_t* eligible,
               double radius2);
@@ -41,8 +41,7 @@ class BinNeighbours {
   std::size_t n_ = 0;
   std::vector<double> c_[3];         // candidates of the bin: x, y, z (SoA), visit order
   std::vector<std::uint64_t> slot_;  // their cell-list slots
-  const double* pos4_ = nullptr;     // (x, y, z, 0) per slot
-  const double* vel4_ = nullptr;     // (vx, vy, vz, 0) per slot
+  std::vector<double> p4_, v4_;      // their (x, y, z, 0) and (vx, vy, vz, 0), visit order
   std::vector<std::uint64_t> acc_;   // accepted candidates of one boid
   std::vector<double> acc_r2_;       // their squared distances
 };
