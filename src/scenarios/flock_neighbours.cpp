@@ -11,15 +11,15 @@ using core::Vec3;
 namespace {
 
 /// \brief Copy the candidates k in [first, last) that are eligible and whose squared distance to
-/// the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z) to out, and their slots k
-/// to out_slot, in order; returns their number.
+/// the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z, vx, vy, vz) to out, in
+/// order; returns their number.
 /// The outputs need room for last - first + 8 entries. The box distance is rounded the way the
 /// per-boid r2 is (((ex² + ey²) + ez²), each e no larger than the boid's |d|): rounding is
 /// monotonic, so it never exceeds the r2 of any point in the box, and every candidate that a
 /// point of the box can perceive is kept.
-std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligible,
+std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligible,
                           std::size_t first, std::size_t last, const Vec3& lo, const Vec3& hi,
-                          double radius2, double* const out[3], std::uint64_t* out_slot) {
+                          double radius2, double* const out[6]) {
   const double *X = in[0], *Y = in[1], *Z = in[2];
   std::size_t n = 0, k = first;
 #if defined(__AVX512F__)
@@ -43,9 +43,9 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
     _mm512_storeu_pd(out[0] + n, _mm512_maskz_compress_pd(m, cx));
     _mm512_storeu_pd(out[1] + n, _mm512_maskz_compress_pd(m, cy));
     _mm512_storeu_pd(out[2] + n, _mm512_maskz_compress_pd(m, cz));
-    const __m512i slots = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)),
-                                           _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0));
-    _mm512_storeu_si512(out_slot + n, _mm512_maskz_compress_epi64(m, slots));
+    for (int c = 3; c < 6; ++c)
+      _mm512_storeu_pd(out[c] + n,
+                       _mm512_maskz_compress_pd(m, _mm512_maskz_loadu_pd(tm, in[c] + k)));
     n += static_cast<std::size_t>(__builtin_popcount(m));
   }
 #elif defined(__AVX2__)
@@ -55,7 +55,6 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
   auto gap = [&](__m256d c, __m256d l, __m256d h) {
     return _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(l, c), _mm256_sub_pd(c, h)), zero);
   };
-  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
   // Full vectors only; the tail (< 4 candidates) takes the scalar loop below, which keeps the
   // same candidates (a superset filter: which path decides does not matter).
   for (; k + 4 <= last; k += 4) {
@@ -77,9 +76,7 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
     _mm256_storeu_pd(out[0] + n, pack(cx));
     _mm256_storeu_pd(out[1] + n, pack(cy));
     _mm256_storeu_pd(out[2] + n, pack(cz));
-    const __m256i slots = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_slot + n),
-                        _mm256_permutevar8x32_epi32(slots, perm));
+    for (int c = 3; c < 6; ++c) _mm256_storeu_pd(out[c] + n, pack(_mm256_loadu_pd(in[c] + k)));
     n += static_cast<std::size_t>(__builtin_popcount(bits));
   }
 #endif
@@ -89,8 +86,7 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
     const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);
     const double ey = std::max(std::max(lo.y - Y[k], Y[k] - hi.y), 0.0);
     const double ez = std::max(std::max(lo.z - Z[k], Z[k] - hi.z), 0.0);
-    for (int c = 0; c < 3; ++c) out[c][n] = in[c][k];
-    out_slot[n] = k;
+    for (int c = 0; c < 6; ++c) out[c][n] = in[c][k];
     n += (eligible[k] != 0) & (ex * ex + ey * ey + ez * ez < radius2);
   }
 #endif
@@ -100,10 +96,10 @@ std::size_t keep_near_box(const double* const in[3], const std::uint64_t* eligib
 }  // namespace
 
 void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t first,
-                           std::size_t last, const double* pos4, const double* vel4,
+                           std::size_t last, const double* vx, const double* vy, const double* vz,
                            const std::uint64_t* eligible, double radius2) {
   const double *X = cells.x(), *Y = cells.y(), *Z = cells.z();
-  const double* const in[3] = {X, Y, Z};
+  const double* const in[6] = {X, Y, Z, vx, vy, vz};
   Vec3 lo{X[first], Y[first], Z[first]}, hi = lo;
   for (std::size_t k = first + 1; k < last; ++k) {
     lo = {std::min(lo.x, X[k]), std::min(lo.y, Y[k]), std::min(lo.z, Z[k])};
@@ -111,28 +107,11 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
   }
   n_ = 0;
   cells.for_each_near_block(lo, [&](std::size_t row_first, std::size_t row_last) {
-    if (slot_.size() < n_ + (row_last - row_first) + 8) {
-      const std::size_t room = 2 * (n_ + (row_last - row_first)) + 64;
-      for (auto& c : c_) c.resize(room);
-      slot_.resize(room), p4_.resize(4 * room), v4_.resize(4 * room);
-    }
-    double* const out[3] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_};
-    const std::size_t n0 = n_;
-    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out, slot_.data() + n_);
-    // The kept candidates' position and velocity quadruples side by side in visit order: the
-    // sums then read L1-resident data (read through the slots, the per-slot arrays missed cache
-    // on every neighbour).
-    const std::uint64_t* slot = slot_.data();
-    double *p4 = p4_.data(), *v4 = v4_.data();
-    for (std::size_t i = n0; i < n_; ++i) {
-#if defined(__AVX2__)
-      _mm256_storeu_pd(p4 + 4 * i, _mm256_loadu_pd(pos4 + 4 * slot[i]));
-      _mm256_storeu_pd(v4 + 4 * i, _mm256_loadu_pd(vel4 + 4 * slot[i]));
-#else
-      std::copy_n(pos4 + 4 * slot[i], 4, p4 + 4 * i);
-      std::copy_n(vel4 + 4 * slot[i], 4, v4 + 4 * i);
-#endif
-    }
+    if (c_[0].size() < n_ + (row_last - row_first) + 8)
+      for (auto& c : c_) c.resize(2 * (n_ + (row_last - row_first)) + 64);
+    double* const out[6] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_,
+                            c_[3].data() + n_, c_[4].data() + n_, c_[5].data() + n_};
+    n_ += keep_near_box(in, eligible, row_first, row_last, lo, hi, radius2, out);
   });
   if (acc_.size() < n_ + 8) acc_.resize(2 * n_ + 8), acc_r2_.resize(2 * n_ + 8);
 }
@@ -146,21 +125,23 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   const double d2 = d_star * d_star;
   const std::uint64_t* acc = acc_.data();  // locals: no reloads via `this`
   const double* r2s = acc_r2_.data();
-  const double *P4 = p4_.data(), *V4 = v4_.data();
-  // The sums of accumulate_neighbour(), in the same order (bitwise). A neighbour's (x, y, z, 0)
-  // fills the lanes of one vector: each component still gets the same adds in the same order.
+  const double *X = c_[0].data(), *Y = c_[1].data(), *Z = c_[2].data();
+  const double *VX = c_[3].data(), *VY = c_[4].data(), *VZ = c_[5].data();
+  // The sums of accumulate_neighbour(), in the same order (bitwise). With AVX2 a neighbour's
+  // (x, y, z, 0) fills the lanes of one vector: each component gets the same adds in the same
+  // order, one vector operation instead of three scalar ones.
 #if defined(__AVX2__)
   const __m256d xb = _mm256_setr_pd(x.x, x.y, x.z, 0.0);
   __m256d sep = _mm256_setzero_pd(), vel = _mm256_setzero_pd(), pos = _mm256_setzero_pd();
   for (std::size_t a = 0; a < cnt; ++a) {
-    const std::size_t k = acc[a];
-    const __m256d d = _mm256_sub_pd(_mm256_loadu_pd(P4 + 4 * k), xb);
+    const std::size_t j = acc[a];
+    const __m256d d = _mm256_sub_pd(_mm256_setr_pd(X[j], Y[j], Z[j], 0.0), xb);
     const double r2 = r2s[a];  // = core::dot(d, d), from the perception test
     if (r2 < d2) {             // the square root only for the few pairs closer than d*
       const double r = std::sqrt(r2);
       sep = _mm256_sub_pd(sep, _mm256_mul_pd(d, _mm256_set1_pd((d_star - r) / r)));
     }
-    vel = _mm256_add_pd(vel, _mm256_loadu_pd(V4 + 4 * k));
+    vel = _mm256_add_pd(vel, _mm256_setr_pd(VX[j], VY[j], VZ[j], 0.0));
     pos = _mm256_add_pd(pos, d);
   }
   alignas(32) double out[3][4];
@@ -169,19 +150,18 @@ mf::NeighbourSums BinNeighbours::sums(const Vec3& x, const Vec3& v, double radiu
   s.velocity = {out[1][0], out[1][1], out[1][2]};
   s.position = {out[2][0], out[2][1], out[2][2]};
 #else
-  // In locals: the result `s` may alias the inputs as far as the compiler knows, so summing
-  // into it stored every step.
+  // In locals: the result `s` may alias the inputs as far as the compiler knows, so summing into
+  // it stored every step.
   Vec3 sep{}, vel{}, pos{};
   for (std::size_t a = 0; a < cnt; ++a) {
-    const double* p = P4 + 4 * acc[a];
-    const double* u = V4 + 4 * acc[a];
-    const Vec3 d{p[0] - x.x, p[1] - x.y, p[2] - x.z};
-    const double r2 = r2s[a];
-    if (r2 < d2) {
+    const std::size_t j = acc[a];
+    const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
+    const double r2 = r2s[a];  // = core::dot(d, d), from the perception test
+    if (r2 < d2) {             // the square root only for the few pairs closer than d*
       const double r = std::sqrt(r2);
       sep -= d * ((d_star - r) / r);
     }
-    vel += Vec3{u[0], u[1], u[2]};
+    vel += Vec3{VX[j], VY[j], VZ[j]};
     pos += d;
   }
   s.separation = sep, s.velocity = vel, s.position = pos;

@@ -21,11 +21,11 @@ namespace biota::scenarios {
 /// \brief See file comment.
 class BinNeighbours {
  public:
-  /// \brief Gather the candidates of the bin holding slots [first, last) of `cells` (eligibility
-  /// flags per slot), keeping those that may lie within `radius2` of a point of the bin. pos4 and
-  /// vel4 hold each slot's position and velocity as 4 doubles (x, y, z, 0).
+  /// \brief Gather the candidates of the bin holding slots [first, last) of `cells` (slot-ordered
+  /// velocities vx, vy, vz and eligibility flags), keeping those that may lie within `radius2`
+  /// of a point of the bin.
   void gather(const particles::OrderedCellList& cells, std::size_t first, std::size_t last,
-              const double* pos4, const double* vel4, const std::uint64_t* eligible,
+              const double* vx, const double* vy, const double* vz, const std::uint64_t* eligible,
               double radius2);
 
   /// \brief The kAverage sums (separation, velocity, position, count; no nearest neighbour) of
@@ -39,11 +39,9 @@ class BinNeighbours {
 
  private:
   std::size_t n_ = 0;
-  std::vector<double> c_[3];         // candidates of the bin: x, y, z (SoA), visit order
-  std::vector<std::uint64_t> slot_;  // their cell-list slots
-  std::vector<double> p4_, v4_;      // their (x, y, z, 0) and (vx, vy, vz, 0), visit order
-  std::vector<std::uint64_t> acc_;   // accepted candidates of one boid
-  std::vector<double> acc_r2_;       // their squared distances
+  std::vector<double> c_[6];        // candidates of the bin: x, y, z, vx, vy, vz (SoA), visit order
+  std::vector<std::uint64_t> acc_;  // accepted candidates of one boid
+  std::vector<double> acc_r2_;      // their squared distances
 };
 
 }  // namespace biota::scenarios

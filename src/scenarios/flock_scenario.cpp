@@ -289,15 +289,12 @@ void FlockScenario::begin_step() {
                set_->real(particles::ParticleSet::kPos, 1),
                set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
                n, lo_, radius_, bin_reach_);
-  spos4_.resize(4 * n), svel4_.resize(4 * n), eligible_.resize(n);
+  svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
   const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
                *vz = set_->real(a_vel_, 2);
-  const double *X = cells_.x(), *Y = cells_.y(), *Z = cells_.z();
-  double *p4 = spos4_.data(), *v4 = svel4_.data();
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = cells_.index(k);
-    p4[4 * k] = X[k], p4[4 * k + 1] = Y[k], p4[4 * k + 2] = Z[k], p4[4 * k + 3] = 0;
-    v4[4 * k] = vx[i], v4[4 * k + 1] = vy[i], v4[4 * k + 2] = vz[i], v4[4 * k + 3] = 0;
+    svx_[k] = vx[i], svy_[k] = vy[i], svz_[k] = vz[i];
     const core::GlobalId id = cells_.ids()[k];
     eligible_[k] = is_prey(id) && flying(id);
   }
@@ -432,7 +429,7 @@ void FlockScenario::step() {
         if (i >= no) continue;
         const core::GlobalId id = ids[k];
         if (!flying(id)) continue;
-        const Vec3 x{X[k], Y[k], Z[k]}, v{svel4_[4 * k], svel4_[4 * k + 1], svel4_[4 * k + 2]};
+        const Vec3 x{X[k], Y[k], Z[k]}, v{svx_[k], svy_[k], svz_[k]};
         if (core::dot(v, v) == 0) {  // first flying frame: launch (chaos-game order, spec 2.7)
           launch[i] = 1;
           continue;
@@ -450,8 +447,8 @@ void FlockScenario::step() {
         mf::NeighbourSums s;
         if (align_mode_ == mf::AlignmentMode::kAverage) {
           if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
-            bin_.gather(cells_, bin_first, bin_last, spos4_.data(), svel4_.data(), eligible_.data(),
-                        R2);
+            bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
+                        eligible_.data(), R2);
             gathered_end = bin_last;
           }
           s = bin_.sums(x, v, R2, fov_cos_, dstar);
@@ -461,8 +458,7 @@ void FlockScenario::step() {
             const double r2 = core::dot(d, d);
             if (r2 >= R2 || !eligible_[j]) return;
             if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
-            const double* vj = svel4_.data() + 4 * j;
-            mf::accumulate_neighbour(s, d, r2, {vj[0], vj[1], vj[2]}, ids[j], dstar);
+            mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
           });
         }
         neighbour_sum_ += s.count;

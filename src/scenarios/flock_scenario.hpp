@@ -145,7 +145,7 @@ class FlockScenario : public Scenario {
   long long neighbour_sum_ = 0, prey_updates_ = 0;
   // Neighbour search (rebuilt every step) and its slot-ordered copies.
   particles::OrderedCellList cells_;
-  std::vector<double> spos4_, svel4_;  // per slot: (x, y, z, 0) and (vx, vy, vz, 0)
+  std::vector<double> svx_, svy_, svz_;
   std::vector<std::uint64_t> eligible_;
   BinNeighbours bin_;  // candidates shared by the boids of one bin (kAverage)
   // Statistics.
