@@ -52,6 +52,10 @@ int ParticleComm::axis_coord(int d, Real v) const {
 Real ParticleComm::wrap(int d, Real v) const {
   if (!decomp_.periodic(d)) return v;
   const Real L = ghi_[d] - glo_[d];
+  // Inside the box (nearly always): 0 < t < L makes t / L round into [0, 1), so the formula
+  // below gives v - L * (+0) = v exactly; skip its division.
+  const Real t = v - glo_[d];
+  if (t > 0 && t < L && v < ghi_[d]) return v;
   Real w = v - L * std::floor((v - glo_[d]) / L);
   if (w >= ghi_[d]) w = glo_[d];  // round-off at the top edge
   return w;
@@ -82,7 +86,23 @@ void ParticleComm::migrate(ParticleSet& set) {
   const int w = set.pack_width(false);
   Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
                 set.real(ParticleSet::kPos, 2)};
-  for (std::size_t i = 0; i < set.n_owned(); ++i) wrap_particle(set, i, x);
+  // Axis by axis (each coordinate wraps on its own): a particle inside the box along d, nearly
+  // all of them, costs a subtraction and three comparisons (see wrap()).
+  for (int d = 0; d < 3; ++d) {
+    if (!decomp_.periodic(d)) continue;
+    const Real lo = glo_[d], hi = ghi_[d], L = hi - lo;
+    Real* xd = x[d];
+    for (std::size_t i = 0, n = set.n_owned(); i < n; ++i) {
+      const Real v = xd[i], t = v - lo;
+      if (t > 0 && t < L && v < hi) continue;
+      const Real w = wrap(d, v);
+      if (w == v) continue;
+      xd[i] = w;
+      for (int a : set.extra_positions()) set.real(a, d)[i] += w - v;
+    }
+  }
+  bool split[3], any_split = false;
+  for (int d = 0; d < 3; ++d) any_split |= split[d] = decomp_.dims()[d] > 1;
   for (int round = 0;; ++round) {
     if (round > 64) throw std::runtime_error("ParticleComm::migrate did not converge");
     for (int d = 0; d < 3; ++d) {
@@ -114,13 +134,14 @@ void ParticleComm::migrate(ParticleSet& set) {
     // Done when every particle is home (at most a few rounds when a move spans several ranks).
     long long away = 0;
     // Compare rank coordinates directly (no MPI_Cart_rank per particle): same test as owner_of.
-    for (std::size_t i = 0; i < set.n_owned(); ++i)
-      for (int d = 0; d < 3; ++d)
-        if (decomp_.dims()[d] > 1 &&
-            axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
-          ++away;
-          break;
-        }
+    // On one rank (no axis split) every particle is home.
+    if (any_split)
+      for (std::size_t i = 0; i < set.n_owned(); ++i)
+        for (int d = 0; d < 3; ++d)
+          if (split[d] && axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
+            ++away;
+            break;
+          }
     long long total = 0;
     MPI_Allreduce(&away, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
     if (total == 0) break;
@@ -188,8 +209,21 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
       p.shift = 0;
       if (side == 0 && me == 0) p.shift = L;
       if (side == 1 && me == dims - 1) p.shift = -L;
+      const int dest = decomp_.neighbor(d, side), src = decomp_.neighbor(d, 1 - side);
+      if (dest == decomp_.rank() && src == dest) {
+        // A periodic axis not split over ranks: the images are this rank's own particles, so the
+        // columns are copied directly (no pack, message or unpack; the same values and order).
+        const Real* x = set.real(ParticleSet::kPos, d);
+        const Real edge = side == 0 ? lo_[d] + cutoff : hi_[d] - cutoff;
+        for (std::size_t i = 0; i < n_candidates; ++i)
+          if (side == 0 ? x[i] < edge : x[i] >= edge) p.send.push_back(i);
+        p.recv_begin = set.n_total();
+        p.recv_count = p.send.size();
+        set.append_ghost_copies(p.send, d, p.shift);
+        continue;
+      }
       std::vector<double> out;
-      if (decomp_.neighbor(d, side) != MPI_PROC_NULL) {
+      if (dest != MPI_PROC_NULL) {
         const Real* x = set.real(ParticleSet::kPos, d);
         for (std::size_t i = 0; i < n_candidates; ++i) {
           const bool near = side == 0 ? x[i] < lo_[d] + cutoff : x[i] >= hi_[d] - cutoff;
@@ -200,8 +234,7 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
           for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
         }
       }
-      auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
-                         kTagGhost + 2 * side, comm, sent_);
+      auto in = sendrecv(out, dest, src, kTagGhost + 2 * side, comm, sent_);
       const std::size_t n = in.size() / w, first = set.n_total();
       set.resize(set.n_owned(), first + n);
       for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, true, in.data() + k * w);

@@ -144,6 +144,27 @@ void ParticleSet::unpack(std::size_t i, bool ghost_only, const double* in) {
     if (ghost_only ? ughost_[c] : umig_[c]) ucol_[c][i] = std::bit_cast<std::uint64_t>(*in++);
 }
 
+void ParticleSet::append_ghost_copies(const std::vector<std::size_t>& from, int axis, Real shift) {
+  const std::size_t first = n_total_, n = from.size();
+  resize(n_owned_, first + n);
+  for (std::size_t a = 0; a < layout_.reals().size(); ++a) {
+    const auto& spec = layout_.reals()[a];
+    if (!spec.ghost) continue;
+    for (int c = 0; c < spec.ncomp; ++c) {
+      Real* col = rcol_[rfirst_[a] + c].data();
+      if (spec.position && c == axis)  // as the packed path: the shift is added even when 0
+        for (std::size_t k = 0; k < n; ++k) col[first + k] = col[from[k]] + shift;
+      else
+        for (std::size_t k = 0; k < n; ++k) col[first + k] = col[from[k]];
+    }
+  }
+  for (std::size_t c = 0; c < ucol_.size(); ++c) {
+    if (!ughost_[c]) continue;
+    std::uint64_t* col = ucol_[c].data();
+    for (std::size_t k = 0; k < n; ++k) col[first + k] = col[from[k]];
+  }
+}
+
 void ParticleSet::swap_slots(std::size_t i, std::size_t j) {
   for (auto& c : rcol_) std::swap(c[i], c[j]);
   for (auto& c : ucol_) std::swap(c[i], c[j]);

@@ -130,6 +130,11 @@ class ParticleSet {
   const std::vector<int>& extra_positions() const { return extra_pos_; }
   /// \brief Write one packed particle into slot i (which must exist).
   void unpack(std::size_t i, bool ghost_only, const double* in);
+  /// \brief Append ghosts copying particles `from` (ghost columns; the others zero), with `shift`
+  /// added to component `axis` of every position-valued ghost attribute: the values that
+  /// pack(i, true), that shift and unpack() give, without a message (a periodic image held by
+  /// this rank).
+  void append_ghost_copies(const std::vector<std::size_t>& from, int axis, Real shift);
   /// \brief Resize to n_owned owned and n_total - n_owned ghosts (new slots zeroed).
   void resize(std::size_t n_owned, std::size_t n_total);
   /// \brief Swap particle slots i and j (all columns).

@@ -257,18 +257,16 @@ inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
   return cnt;
 }
 
-/// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
-/// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
-/// to `out` and `out_r2` in increasing k and returns their number. Both need room for n + 8
-/// entries. r2 is computed as core::dot(d, d) computes it, so sums that reuse it keep their bits.
-/// Every candidate, the tail included, goes through the same vector code (AVX-512: 8 lanes, AVX2:
-/// 4 lanes, else a branch-free scalar loop), separate multiplies and adds (no FMA), so a decision
-/// never depends on a candidate's position in the array.
-inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real* Z, std::size_t n,
-                                       const Vec3& x, const Vec3& v, Real v2, Real radius2,
-                                       Real fov_cos, Real c2, std::uint64_t* out, Real* out_r2) {
+/// \brief perceive_compact_r2() with the field-of-view case fixed at compile time (no per-vector
+/// test of it in the loop): all round (fov_cos <= -1 or v2 == 0), or narrow (fov_cos >= 0).
+namespace detail {
+template <bool kAllRound, bool kNarrow>
+inline std::size_t perceive_compact_r2_fixed(const Real* X, const Real* Y, const Real* Z,
+                                             std::size_t n, const Vec3& x, const Vec3& v, Real v2,
+                                             Real radius2, Real c2, std::uint64_t* out,
+                                             Real* out_r2) {
   std::size_t cnt = 0;
-  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
+  [[maybe_unused]] constexpr bool all_round = kAllRound, narrow = kNarrow;
 #if defined(__AVX512F__)
   const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
   const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
@@ -284,7 +282,7 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
                                      _mm512_mul_pd(dz, dz));
     __mmask8 m =
         tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
-    if (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
+    if constexpr (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
     const __m512i idx = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)), lanes);
     _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
     _mm512_storeu_pd(out_r2 + cnt, _mm512_maskz_compress_pd(m, r2));
@@ -314,7 +312,8 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
     __m256d m = _mm256_and_pd(
         _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ)),
         _mm256_castsi256_pd(tm));
-    if (!all_round) m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
+    if constexpr (!all_round)
+      m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
     const int bits = _mm256_movemask_pd(m);
     const __m256i idx = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
     const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
@@ -336,6 +335,27 @@ inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real*
   }
 #endif
   return cnt;
+}
+}  // namespace detail
+
+/// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
+/// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
+/// to `out` and `out_r2` in increasing k and returns their number. Both need room for n + 8
+/// entries. r2 is computed as core::dot(d, d) computes it, so sums that reuse it keep their bits.
+/// Every candidate, the tail included, goes through the same vector code (AVX-512: 8 lanes, AVX2:
+/// 4 lanes, else a branch-free scalar loop), separate multiplies and adds (no FMA), so a decision
+/// never depends on a candidate's position in the array.
+inline std::size_t perceive_compact_r2(const Real* X, const Real* Y, const Real* Z, std::size_t n,
+                                       const Vec3& x, const Vec3& v, Real v2, Real radius2,
+                                       Real fov_cos, Real c2, std::uint64_t* out, Real* out_r2) {
+  if ((fov_cos <= -1) | (v2 == 0))
+    return detail::perceive_compact_r2_fixed<true, false>(X, Y, Z, n, x, v, v2, radius2, c2, out,
+                                                          out_r2);
+  if (fov_cos >= 0)
+    return detail::perceive_compact_r2_fixed<false, true>(X, Y, Z, n, x, v, v2, radius2, c2, out,
+                                                          out_r2);
+  return detail::perceive_compact_r2_fixed<false, false>(X, Y, Z, n, x, v, v2, radius2, c2, out,
+                                                         out_r2);
 }
 
 /// \brief Separation acceleration w_sep Σ (x_b - x_j)(d* - r)/r (spec 2.1; units of w: 1/s²).
