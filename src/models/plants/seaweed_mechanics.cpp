@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <tuple>
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
@@ -289,22 +290,36 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
   // are discarded.
   JointBlock& jb = *joint_block_;
+  // Lane l reads child ci(l) and parent pj(l), one column at a time: where a block's children
+  // and parents are consecutive slots (chains are stored in order) the copies are vector loads.
+  const auto gather = [&](auto ci, auto pj) {
+    const auto col = [](Real* dst, const Real* src, auto idx) {
+      for (int l = 0; l < kJointBlock; ++l) dst[l] = src[idx(l)];
+    };
+    col(jb.qc.w, qw, ci), col(jb.qc.x, qx, ci), col(jb.qc.y, qy, ci), col(jb.qc.z, qz, ci);
+    col(jb.qp.w, qw, pj), col(jb.qp.x, qx, pj), col(jb.qp.y, qy, pj), col(jb.qp.z, qz, pj);
+    col(jb.qr.w, rw, ci), col(jb.qr.x, rx, ci), col(jb.qr.y, ry, ci), col(jb.qr.z, rz, ci);
+    col(jb.ac.x, ac.c0, ci), col(jb.ac.y, ac.c1, ci), col(jb.ac.z, ac.c2, ci);
+    col(jb.ap.x, ap.c0, ci), col(jb.ap.y, ap.c1, ci), col(jb.ap.z, ap.c2, ci);
+    col(jb.xc.x, x.c0, ci), col(jb.xc.y, x.c1, ci), col(jb.xc.z, x.c2, ci);
+    col(jb.xp.x, x.c0, pj), col(jb.xp.y, x.c1, pj), col(jb.xp.z, x.c2, pj);
+    col(jb.vc.x, v.c0, ci), col(jb.vc.y, v.c1, ci), col(jb.vc.z, v.c2, ci);
+    col(jb.vp.x, v.c0, pj), col(jb.vp.y, v.c1, pj), col(jb.vp.z, v.c2, pj);
+    col(jb.wc.x, w.c0, ci), col(jb.wc.y, w.c1, ci), col(jb.wc.z, w.c2, ci);
+    col(jb.wp.x, w.c0, pj), col(jb.wp.y, w.c1, pj), col(jb.wp.z, w.c2, pj);
+  };
   for (std::size_t m0 = 0; m0 < nj; m0 += kJointBlock) {
     const int lanes = static_cast<int>(std::min<std::size_t>(kJointBlock, nj - m0));
+    std::size_t ci[kJointBlock], pj[kJointBlock];
+    bool runs = lanes == kJointBlock;
     for (int l = 0; l < kJointBlock; ++l) {
-      const auto [i, j] = joints_[m0 + (l < lanes ? l : 0)];
-      jb.qc.w[l] = qw[i], jb.qc.x[l] = qx[i], jb.qc.y[l] = qy[i], jb.qc.z[l] = qz[i];
-      jb.qp.w[l] = qw[j], jb.qp.x[l] = qx[j], jb.qp.y[l] = qy[j], jb.qp.z[l] = qz[j];
-      jb.qr.w[l] = rw[i], jb.qr.x[l] = rx[i], jb.qr.y[l] = ry[i], jb.qr.z[l] = rz[i];
-      jb.ac.x[l] = ac.c0[i], jb.ac.y[l] = ac.c1[i], jb.ac.z[l] = ac.c2[i];
-      jb.ap.x[l] = ap.c0[i], jb.ap.y[l] = ap.c1[i], jb.ap.z[l] = ap.c2[i];
-      jb.xc.x[l] = x.c0[i], jb.xc.y[l] = x.c1[i], jb.xc.z[l] = x.c2[i];
-      jb.xp.x[l] = x.c0[j], jb.xp.y[l] = x.c1[j], jb.xp.z[l] = x.c2[j];
-      jb.vc.x[l] = v.c0[i], jb.vc.y[l] = v.c1[i], jb.vc.z[l] = v.c2[i];
-      jb.vp.x[l] = v.c0[j], jb.vp.y[l] = v.c1[j], jb.vp.z[l] = v.c2[j];
-      jb.wc.x[l] = w.c0[i], jb.wc.y[l] = w.c1[i], jb.wc.z[l] = w.c2[i];
-      jb.wp.x[l] = w.c0[j], jb.wp.y[l] = w.c1[j], jb.wp.z[l] = w.c2[j];
+      std::tie(ci[l], pj[l]) = joints_[m0 + (l < lanes ? l : 0)];
+      runs = runs && ci[l] == ci[0] + l && pj[l] == pj[0] + l;
     }
+    if (runs)
+      gather([c0 = ci[0]](int l) { return c0 + l; }, [p0 = pj[0]](int l) { return p0 + l; });
+    else
+      gather([&ci](int l) { return ci[l]; }, [&pj](int l) { return pj[l]; });
     evaluate_joint_block(jb, p_.joint_k, p_.joint_c, p_.bend_k, p_.bend_c);
     for (int l = 0; l < lanes; ++l) {
       const std::size_t m = m0 + l;
