@@ -348,16 +348,33 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const std::size_t nt = set_.n_total();
   hot_.resize(nt);
   for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
-  const ContactSphere* hot = hot_.data();
-  const ContactLaw law{p_.contact_k, p_.contact_c, p_.friction, p_.friction_c};
-  // The pair (a, b) = (lower id, higher id), added to the sphere on `side` only.
-  const auto contact = [&](std::size_t a, std::size_t b, std::uint32_t side, Vec3& f, Vec3& t) {
-    ContactHit h;
-    if (!contact_hit(hot[a], hot[b], law, h)) return;
-    Vec3 fs, ts;
-    contact_share(h, side, hot[a].r, hot[b].r, fs, ts);
-    f = f + fs;
-    t = t + ts;
+  const Hot* hot = hot_.data();
+  const auto contact = [&](std::size_t i, std::size_t j, std::uint32_t side, Vec3& f, Vec3& t) {
+    const Hot &hi = hot[i], &hj = hot[j];
+    const Vec3 d = hi.x - hj.x;
+    const Real ri = hi.r, rj = hj.r, d2 = core::dot(d, d);
+    // Clearly apart (a margin far above round-off): skip the square root; else the exact test.
+    if (d2 > (ri + rj) * (ri + rj) * (1 + 1e-9)) return;
+    const Real dist = core::norm(d);
+    const Real overlap = ri + rj - dist;
+    if (overlap <= 0 || dist <= 0) return;
+    const Vec3 n = d / dist;
+    const Vec3 wi = hi.w, wj = hj.w;
+    const Vec3 vrel = (hi.v + core::cross(wi, n * (-ri))) - (hj.v + core::cross(wj, n * rj));
+    const Real vn = core::dot(vrel, n);
+    const Real fn = std::max(0.0, p_.contact_k * overlap - p_.contact_c * vn);
+    const Vec3 vt = vrel - n * vn;
+    const Real vtn = core::norm(vt);
+    Vec3 ft{};
+    if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
+    const Vec3 F = n * fn + ft;
+    if (side == 0) {
+      f = f + F;
+      t = t + core::cross(n * (-ri), ft);
+    } else {
+      f = f + (-F);
+      t = t + core::cross(n * rj, -ft);
+    }
   };
   // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
   // order.
@@ -379,11 +396,6 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
     near_.clear();
     near_begin_.assign(no + 1, 0);
-    mirror_.clear();
-    share_.clear();
-    pend_.clear();
-    pend_head_.assign(no, kNoSlot);
-    mark_.assign(no, kNoSlot);
   }
   const Real s_in = p_.inner_skin;
   std::size_t jk = 0;  // next joint result (dense, in summation order)
@@ -404,75 +416,36 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * vi[d]);
       if (lo > 0 || hi > 0) f = f + fw;
     }
-    // Interaction at inner-list position k (kind, side, partner slot j): a joint's result, or a
-    // contact evaluated here (ghost partner; owned partner in a higher slot, whose share is
-    // stored at k), or the share an owned partner in a lower slot stored (mirror_[k]).
-    const auto interact = [&](std::size_t k, std::uint32_t kind, std::uint32_t side,
-                              std::uint32_t j) {
-      if (kind != 2) {
-        f = f + out[jk].f;
-        t = t + out[jk].t;
-        ++jk;
+    const auto interact = [&](std::uint32_t kind, std::uint32_t side, std::uint32_t index) {
+      if (kind == 2) {  // (lower id, higher id) as listed in pairs_
+        if (side == 0)
+          contact(i, index, 0, f, t);
+        else
+          contact(index, i, 1, f, t);
         return;
       }
-      const std::size_t a = side == 0 ? i : j, b = side == 0 ? j : i;
-      if (j >= no || mirror_[k] == kNoSlot) {
-        PairShare* ps = j < no && j > i ? &share_[k] : nullptr;
-        ContactHit h;
-        const bool touch = contact_hit(hot[a], hot[b], law, h);
-        if (ps) ps->touch = touch;
-        if (!touch) return;
-        Vec3 fs, ts;
-        contact_share(h, side, hot[a].r, hot[b].r, fs, ts);
-        f = f + fs;
-        t = t + ts;
-        if (ps) contact_share(h, 1 - side, hot[a].r, hot[b].r, ps->f, ps->t);
-        return;
-      }
-      const PairShare& ps = share_[mirror_[k]];
-      if (ps.touch) f = f + ps.f, t = t + ps.t;
+      f = f + out[jk].f;
+      t = t + out[jk].t;
+      ++jk;
     };
     if (filter) {
-      // Owned partners in lower slots kept their entries for this pair (the keep test is
-      // symmetric in the two spheres); mark_ maps each to that entry's position.
-      for (std::uint32_t q = pend_head_[i]; q != kNoSlot; q = pend_[q].next)
-        mark_[pend_[q].src] = pend_[q].pos;
       for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
         bool keep = e.kind() != 2;
         if (!keep) {
-          const ContactSphere& hj = hot[e.index];
+          const Hot& hj = hot[e.index];
           const Vec3 d = hot[i].x - hj.x;
           const Real reach = hot[i].r + hj.r + s_in;
           keep = core::dot(d, d) < reach * reach;
         }
-        if (!keep) {  // cannot touch: evaluated as before (an exact no-op), not listed
-          if (e.side == 0)
-            contact(i, e.index, 0, f, t);
-          else
-            contact(e.index, i, 1, f, t);
-          continue;
-        }
-        const auto at = static_cast<std::uint32_t>(near_.size());
-        const std::uint32_t j = e.index;
-        std::uint32_t mirror = kNoSlot;
-        if (e.kind() == 2 && j < no && j < i) mirror = mark_[j];
-        if (e.kind() == 2 && j < no && j > i) {
-          pend_.push_back({at, static_cast<std::uint32_t>(i), pend_head_[j]});
-          pend_head_[j] = static_cast<std::uint32_t>(pend_.size() - 1);
-        }
-        near_.push_back({j, e.kind() | e.side << 2});
-        mirror_.push_back(mirror);
-        share_.emplace_back();
-        interact(at, e.kind(), e.side, j);
+        if (keep) near_.push_back({e.index, e.kind() | e.side << 2});
+        interact(e.kind(), e.side, e.index);
       }
       near_begin_[i + 1] = near_.size();
-      for (std::uint32_t q = pend_head_[i]; q != kNoSlot; q = pend_[q].next)
-        mark_[pend_[q].src] = kNoSlot;
     } else {
       for (std::size_t k = near_begin_[i]; k < near_begin_[i + 1]; ++k) {
         const Near e = near_[k];
-        interact(k, e.tag & 3u, e.tag >> 2, e.index);
+        interact(e.tag & 3u, e.tag >> 2, e.index);
       }
     }
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];

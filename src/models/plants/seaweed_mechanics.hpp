@@ -23,7 +23,6 @@
 #include <vector>
 
 #include "core/config.hpp"
-#include "models/plants/seaweed_contact.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
 #include "models/plants/ulva_growth.hpp"
 #include "particles/particle_comm.hpp"
@@ -113,7 +112,12 @@ class SeaweedBodies {
     Vec3 f, t;
   };
   static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
-  std::vector<ContactSphere> hot_;  // per owned and ghost sphere, copied each sub-step
+  /// What the contact evaluation reads of a sphere, in one record (see compute_forces).
+  struct Hot {
+    Vec3 x, v, w;
+    Real r, pad[2];
+  };
+  std::vector<Hot> hot_;
   std::unique_ptr<JointBlock> joint_block_ = std::make_unique<JointBlock>();  // 2.7 kB scratch
   void compute_forces(Real dt_sub);
   void rebuild_lists();
@@ -152,21 +156,6 @@ class SeaweedBodies {
   std::vector<Near> near_;
   std::vector<std::size_t> near_begin_;
   std::vector<Vec3> x_filter_;  // owned and ghost positions at the last filter
-  // A contact of two owned spheres is evaluated once, by the one in the lower slot; the other's
-  // share is stored at the evaluating entry's position in near_ and read back through mirror_
-  // (per inner-list entry: the position of the same pair's entry on the lower-slot sphere, or
-  // kNoSlot when this entry evaluates itself). Built by the filter pass (pend_, mark_: scratch).
-  struct PairShare {
-    Vec3 f, t;
-    bool touch;
-  };
-  std::vector<PairShare> share_;
-  std::vector<std::uint32_t> mirror_;
-  struct Pending {
-    std::uint32_t pos, src, next;
-  };
-  std::vector<Pending> pend_;
-  std::vector<std::uint32_t> pend_head_, mark_;
   bool need_filter_ = true;
   long long filters_ = 0;
   bool filter_due() const;
