@@ -431,14 +431,19 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     if (filter) {
       for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
-        bool keep = e.kind() != 2;
-        if (!keep) {
+        if (e.kind() == 2) {
           const Hot& hj = hot[e.index];
           const Vec3 d = hot[i].x - hj.x;
-          const Real reach = hot[i].r + hj.r + s_in;
-          keep = core::dot(d, d) < reach * reach;
+          const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
+          if (d2 >= reach * reach) {
+            // Not listed. Most such pairs fail contact()'s first test, which is this very
+            // d2 (the pair's d up to an exact sign) against the same bound: skip them here.
+            if (d2 > rr * rr * (1 + 1e-9)) continue;
+            interact(e.kind(), e.side, e.index);
+            continue;
+          }
         }
-        if (keep) near_.push_back({e.index, e.kind() | e.side << 2});
+        near_.push_back({e.index, e.kind() | e.side << 2});
         interact(e.kind(), e.side, e.index);
       }
       near_begin_[i + 1] = near_.size();
