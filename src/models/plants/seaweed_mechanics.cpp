@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <numeric>
 #include <tuple>
+#include <type_traits>
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
@@ -295,7 +297,10 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   // copies of the child's 28 columns are vector loads.
   const auto gather = [&](auto ci, auto pj) {
     const auto col = [](Real* dst, const Real* src, auto idx) {
-      for (int l = 0; l < kJointBlock; ++l) dst[l] = src[idx(l)];
+      if constexpr (std::is_integral_v<decltype(idx)>)  // lanes idx, idx + 1, ...
+        std::memcpy(dst, src + idx, sizeof(JointBlock::Lane));
+      else
+        for (int l = 0; l < kJointBlock; ++l) dst[l] = src[idx[l]];
     };
     col(jb.qc.w, qw, ci), col(jb.qc.x, qx, ci), col(jb.qc.y, qy, ci), col(jb.qc.z, qz, ci);
     col(jb.qp.w, qw, pj), col(jb.qp.x, qx, pj), col(jb.qp.y, qy, pj), col(jb.qp.z, qz, pj);
@@ -317,11 +322,10 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       std::tie(ci[l], pj[l]) = joints_[m0 + (l < lanes ? l : 0)];
       runs = runs && ci[l] == ci[0] + l;
     }
-    const auto parent_at = [&pj](int l) { return pj[l]; };
     if (runs)
-      gather([c0 = ci[0]](int l) { return c0 + l; }, parent_at);
+      gather(ci[0], +pj);
     else
-      gather([&ci](int l) { return ci[l]; }, parent_at);
+      gather(+ci, +pj);
     evaluate_joint_block(jb, p_.joint_k, p_.joint_c, p_.bend_k, p_.bend_c);
     for (int l = 0; l < lanes; ++l) {
       const std::size_t m = m0 + l;
