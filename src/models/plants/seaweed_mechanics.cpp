@@ -292,9 +292,9 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
   // are discarded.
   JointBlock& jb = *joint_block_;
-  // Lane l reads child ci(l) and parent pj(l), one column at a time: where a block's children
-  // are consecutive slots (joints are listed in child order; 99.5% of the blocks at t = 4 s) the
-  // copies of the child's 28 columns are vector loads.
+  // Lanes are filled one column at a time, each from a slot index per lane; where a block's
+  // children are consecutive slots (joints are listed in child order; 99.5% of the blocks at
+  // t = 4 s) a child column is one 64-byte copy from the first child's slot.
   const auto gather = [&](auto ci, auto pj) {
     const auto col = [](Real* dst, const Real* src, auto idx) {
       if constexpr (std::is_integral_v<decltype(idx)>)  // lanes idx, idx + 1, ...
@@ -442,8 +442,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
           const Vec3 d = hot[i].x - hj.x;
           const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
           if (d2 >= reach * reach) {
-            // Not listed. Most such pairs fail contact()'s first test, which is this very
-            // d2 (the pair's d up to an exact sign) against the same bound: skip them here.
+            // Not listed. With inner_skin > 0 it fails contact()'s first test, which is this
+            // very d2 (the pair's d up to an exact sign) against the same bound: skipped here.
             if (d2 > rr * rr * (1 + 1e-9)) continue;
             interact(e.kind(), e.side, e.index);
             continue;
