@@ -16,6 +16,10 @@ namespace biota::linalg {
 namespace {
 // The coarsest level is solved densely on every rank.
 constexpr long long kMaxCoarseCells = 512;
+// Above this many cells (the blocks of many ranks stop the coarsening early) the dense
+// pseudo-inverse would cost too much; the coarsest level is then smoothed instead.
+constexpr long long kMaxDenseCells = 1000;
+constexpr int kCoarseSweeps = 20;
 
 int floor_div(int a, int b) {
   return a >= 0 ? a / b : -((-a + b - 1) / b);
@@ -373,6 +377,7 @@ void GeometricMultigrid::Impl::build_coarse_solve() {
   Level& v = L.back();
   const core::Index3 N = v.N;
   const int total = N.product();
+  if (total > kMaxDenseCells) return;  // smoothed instead (coarse_solve)
   std::vector<double> A(std::size_t(total) * total, 0.0);
   auto gindex = [&](int gi, int gj, int gk) { return gi + N.x * (gj + N.y * gk); };
   coarse_owned_global.clear();
@@ -425,6 +430,24 @@ void GeometricMultigrid::Impl::build_coarse_solve() {
 }
 
 void GeometricMultigrid::Impl::coarse_solve(Level& v) {
+  if (pinv_rows.empty()) {  // symmetric red-black sweeps from zero: still an SPD operator
+    smooth_from_zero(v);
+    for (int s = 0; s < kCoarseSweeps; ++s) {
+      if (s > 0) {
+        v.halo->exchange(v.x);
+        smooth(v, 0);
+      }
+      v.halo->exchange(v.x);
+      smooth(v, 1);
+    }
+    for (int s = 0; s < kCoarseSweeps; ++s) {
+      v.halo->exchange(v.x);
+      smooth(v, 1);
+      v.halo->exchange(v.x);
+      smooth(v, 0);
+    }
+    return;
+  }
   std::fill(coarse_global.begin(), coarse_global.end(), 0.0);
   std::size_t r = 0;
   for (int k = 0; k < v.n.z; ++k)

@@ -18,10 +18,12 @@
 
 namespace biota::linalg {
 namespace {
-// Default preconditioner of CG (docs/wind.md, "Pressure Poisson solve", for the comparison).
-constexpr const char* kDefaultPC = PCPFMG;
 // Our matrix-free cell-centred geometric multigrid (geometric_multigrid.hpp), a PCSHELL.
 constexpr const char* kGeometricMG = "gmg";
+// Default preconditioner of CG (docs/wind.md, "Pressure Poisson solve", for the comparison).
+constexpr const char* kDefaultPC = kGeometricMG;
+// Red-black sweeps before and after the coarse correction (docs/performance-wind.md).
+constexpr int kGeometricMGSweeps = 2;
 
 /// The preconditioner the options ask for (they are read again by KSPSetFromOptions); the matrix
 /// type and the multigrid hierarchy depend on it, so it is needed before the matrix exists.
@@ -259,7 +261,7 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     // afterwards for the next solver.
     BIOTA_PETSC(PetscOptionsHasName(nullptr, "poisson_", "-pc_type", &hidden_pc_type));
     if (hidden_pc_type) BIOTA_PETSC(PetscOptionsClearValue(nullptr, "-poisson_pc_type"));
-    PetscInt sweeps = 1, max_levels = 30;
+    PetscInt sweeps = kGeometricMGSweeps, max_levels = 30;
     PetscReal omega = 1;
     BIOTA_PETSC(PetscOptionsGetReal(nullptr, "poisson_", "-gmg_omega", &omega, nullptr));
     BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-gmg_sweeps", &sweeps, nullptr));
