@@ -11,8 +11,10 @@
 
 #include "linalg/block_halo.hpp"
 #include "linalg/cell_multigrid.hpp"
+#include "linalg/multigrid_level.hpp"
 
 namespace biota::linalg {
+using multigrid::Level;
 namespace {
 // The coarsest level is solved densely on every rank.
 constexpr long long kMaxCoarseCells = 512;
@@ -81,37 +83,6 @@ int interpolate_1d(int gf, int nf, int nc, PressureBC lo, PressureBC hi, bool pe
   return count;
 }
 
-struct Level {
-  core::Index3 N{}, lo{}, n{};
-  GhostedBlock blk;
-  std::array<bool, 3> periodic{};
-  std::array<std::vector<double>, 3> width;  // per axis, every global cell, in finest cells
-  std::array<std::vector<double>, 3> coef;   // coefficient of each cell's high face, ghosted
-  std::vector<double> diag, inv_diag, x, b, r;
-  std::vector<char> solid;  // finest level only: identity rows of the operator
-  // Coefficient of an interior face per axis on this level, and per row (j, k) whether its cells
-  // 1 .. n.x-2 all have exactly those six coefficients (the constant-coefficient kernels apply).
-  std::array<double, 3> regular_coef{1, 1, 1};
-  std::vector<char> regular_row;
-  std::unique_ptr<BlockHalo> halo;
-  // To the next coarser level, per axis: interpolation from two coarse cells per owned fine
-  // index (local coarse index, -1 and n allowed; a missing second cell has weight 0), and its
-  // transpose, the restriction from four fine cells per owned coarse index (local fine index).
-  std::array<std::array<std::vector<int>, 2>, 3> p_index;
-  std::array<std::array<std::vector<double>, 2>, 3> p_weight;
-  std::array<std::array<std::vector<int>, 4>, 3> r_index;
-  std::array<std::array<std::vector<double>, 4>, 3> r_weight;
-  std::vector<double> work_x, work_y;  // restriction's intermediate sums
-
-  std::ptrdiff_t stride(int a) const { return a == 0 ? 1 : a == 1 ? blk.sy : blk.sz; }
-  /// Centre distance across the high face of global cell g (half width at a non-periodic face).
-  double high_distance(int a, int g) const {
-    const auto& w = width[a];
-    if (g + 1 < N[a]) return 0.5 * (w[g] + w[g + 1]);
-    if (periodic[a]) return 0.5 * (w[g] + w[0]);
-    return 0.5 * w[g];
-  }
-};
 }  // namespace
 
 struct GeometricMultigrid::Impl {
@@ -129,11 +100,6 @@ struct GeometricMultigrid::Impl {
   void build_transfers(int l);
   void finish_operator(Level& v);
   void build_coarse_solve();
-  void smooth(Level& v, int colour);
-  void smooth_from_zero(Level& v);
-  void residual(Level& v);
-  void restrict_to(Level& f, Level& c);
-  void prolong_add(Level& c, Level& f);
   void coarse_solve(Level& v);
   void vcycle(int l);
 };
@@ -431,20 +397,20 @@ void GeometricMultigrid::Impl::build_coarse_solve() {
 
 void GeometricMultigrid::Impl::coarse_solve(Level& v) {
   if (pinv_rows.empty()) {  // symmetric red-black sweeps from zero: still an SPD operator
-    smooth_from_zero(v);
+    multigrid::smooth_from_zero(v, omega);
     for (int s = 0; s < kCoarseSweeps; ++s) {
       if (s > 0) {
         v.halo->exchange(v.x);
-        smooth(v, 0);
+        multigrid::smooth(v, 0, omega);
       }
       v.halo->exchange(v.x);
-      smooth(v, 1);
+      multigrid::smooth(v, 1, omega);
     }
     for (int s = 0; s < kCoarseSweeps; ++s) {
       v.halo->exchange(v.x);
-      smooth(v, 1);
+      multigrid::smooth(v, 1, omega);
       v.halo->exchange(v.x);
-      smooth(v, 0);
+      multigrid::smooth(v, 0, omega);
     }
     return;
   }
@@ -468,202 +434,6 @@ void GeometricMultigrid::Impl::coarse_solve(Level& v) {
       }
 }
 
-namespace {
-/// The 7-point stencil's neighbour sum on a level: general (per-face coefficients) and for a
-/// cell of a regular row (the level's interior coefficients).
-struct Stencil {
-  const double *cx, *cy, *cz;
-  std::ptrdiff_t sy, sz;
-  double rx, ry, rz, rdiag;
-  explicit Stencil(const Level& v)
-      : cx(v.coef[0].data()),
-        cy(v.coef[1].data()),
-        cz(v.coef[2].data()),
-        sy(v.blk.sy),
-        sz(v.blk.sz),
-        rx(v.regular_coef[0]),
-        ry(v.regular_coef[1]),
-        rz(v.regular_coef[2]),
-        rdiag(2 * (rx + ry + rz)) {}
-  double general(const double* x, std::ptrdiff_t q) const {
-    return cx[q] * x[q + 1] + cx[q - 1] * x[q - 1] + cy[q] * x[q + sy] + cy[q - sy] * x[q - sy] +
-           cz[q] * x[q + sz] + cz[q - sz] * x[q - sz];
-  }
-  double regular(const double* x, std::ptrdiff_t q) const {
-    return rx * (x[q + 1] + x[q - 1]) + ry * (x[q + sy] + x[q - sy]) + rz * (x[q + sz] + x[q - sz]);
-  }
-};
-}  // namespace
-
-void GeometricMultigrid::Impl::smooth(Level& v, int colour) {
-  const Stencil st(v);
-  const double *b = v.b.data(), *id = v.inv_diag.data();
-  double* x = v.x.data();
-  const double omega = this->omega, rinv = 1.0 / st.rdiag;
-  const int parity0 = v.lo.x + v.lo.y + v.lo.z, nx = v.n.x;
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j) {
-      const int i0 = (colour - parity0 - j - k) & 1;
-      const auto row = v.blk.index(0, j, k);
-      auto general = [&](std::ptrdiff_t q) {
-        x[q] += omega * (id[q] * (b[q] + st.general(x, q)) - x[q]);
-      };
-      if (v.regular_row[j + std::size_t(v.n.y) * k]) {
-        int i = i0;
-        if (i == 0) {
-          general(row);
-          i = 2;
-        }
-        for (; i < nx - 1; i += 2) {
-          const auto q = row + i;
-          x[q] += omega * (rinv * (b[q] + st.regular(x, q)) - x[q]);
-        }
-        if (i == nx - 1) general(row + i);
-      } else {
-        for (int i = i0; i < nx; i += 2) general(row + i);
-      }
-    }
-}
-
-void GeometricMultigrid::Impl::smooth_from_zero(Level& v) {
-  // The first red half-sweep from x = 0 (neighbours all zero), writing every owned cell, so the
-  // cycle needs no separate clearing pass; ghosts of this level are cleared by the exchange that
-  // follows, except at the box faces, where they stay zero.
-  const double *b = v.b.data(), *id = v.inv_diag.data();
-  double* x = v.x.data();
-  const int parity0 = v.lo.x + v.lo.y + v.lo.z;
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j) {
-      const int i0 = (0 - parity0 - j - k) & 1;
-      const auto row = v.blk.index(0, j, k);
-      for (int i = 0; i < v.n.x; ++i) x[row + i] = 0;
-      for (int i = i0; i < v.n.x; i += 2) x[row + i] = omega * id[row + i] * b[row + i];
-    }
-}
-
-void GeometricMultigrid::Impl::residual(Level& v) {
-  const Stencil st(v);
-  const double *b = v.b.data(), *d = v.diag.data(), *x = v.x.data();
-  double* r = v.r.data();
-  const int nx = v.n.x;
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j) {
-      const auto row = v.blk.index(0, j, k);
-      auto general = [&](int i) {
-        const auto q = row + i;
-        r[q] = d[q] > 0 ? b[q] - (d[q] * x[q] - st.general(x, q)) : 0.0;
-      };
-      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
-        general(0);
-        for (int i = 1; i < nx - 1; ++i) {
-          const auto q = row + i;
-          r[q] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
-        }
-        general(nx - 1);
-      } else {
-        for (int i = 0; i < nx; ++i) general(i);
-      }
-    }
-}
-
-void GeometricMultigrid::multiply(const double* in, double* out) {
-  Level& v = impl_->L[0];
-  std::vector<double>& x = v.r;  // free outside a V-cycle
-  const int nx = v.n.x;
-  std::size_t p = 0;
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j, p += nx)
-      std::copy(in + p, in + p + nx, &x[v.blk.index(0, j, k)]);
-  v.halo->exchange(x);
-  const Stencil st(v);
-  const double* d = v.diag.data();
-  const char* solid = v.solid.data();
-  p = 0;
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j, p += nx) {
-      const auto row = v.blk.index(0, j, k);
-      double* y = out + p;
-      auto general = [&](int i) {
-        const auto q = row + i;
-        y[i] = solid[q] ? x[q] : d[q] * x[q] - st.general(x.data(), q);
-      };
-      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
-        general(0);
-        for (int i = 1; i < nx - 1; ++i)
-          y[i] = st.rdiag * x[row + i] - st.regular(x.data(), row + i);
-        general(nx - 1);
-      } else {
-        for (int i = 0; i < nx; ++i) general(i);
-      }
-    }
-}
-
-void GeometricMultigrid::Impl::restrict_to(Level& f, Level& c) {
-  // Separable: along x for every fine row (ghost rows too), then y, then z.
-  const int ncx = c.n.x, ncy = c.n.y, nfy2 = f.n.y + 2;
-  {
-    const int *i0 = f.r_index[0][0].data(), *i1 = f.r_index[0][1].data(),
-              *i2 = f.r_index[0][2].data(), *i3 = f.r_index[0][3].data();
-    const double *w0 = f.r_weight[0][0].data(), *w1 = f.r_weight[0][1].data(),
-                 *w2 = f.r_weight[0][2].data(), *w3 = f.r_weight[0][3].data();
-    for (int k = -1; k <= f.n.z; ++k)
-      for (int j = -1; j <= f.n.y; ++j) {
-        const double* r = f.r.data() + f.blk.index(0, j, k);
-        double* out = f.work_x.data() + std::size_t((j + 1) + nfy2 * (k + 1)) * ncx;
-        for (int I = 0; I < ncx; ++I)
-          out[I] = w0[I] * r[i0[I]] + w1[I] * r[i1[I]] + w2[I] * r[i2[I]] + w3[I] * r[i3[I]];
-      }
-  }
-  for (int k = -1; k <= f.n.z; ++k)
-    for (int J = 0; J < ncy; ++J) {
-      double* out = f.work_y.data() + (std::size_t(k + 1) * ncy + J) * ncx;
-      std::fill(out, out + ncx, 0.0);
-      for (int m = 0; m < 4; ++m) {
-        const double w = f.r_weight[1][m][J];
-        const double* in =
-            f.work_x.data() + std::size_t((f.r_index[1][m][J] + 1) + nfy2 * (k + 1)) * ncx;
-        for (int I = 0; I < ncx; ++I) out[I] += w * in[I];
-      }
-    }
-  for (int K = 0; K < c.n.z; ++K)
-    for (int J = 0; J < ncy; ++J) {
-      double* out = c.b.data() + c.blk.index(0, J, K);
-      std::fill(out, out + ncx, 0.0);
-      for (int m = 0; m < 4; ++m) {
-        const double w = f.r_weight[2][m][K];
-        const double* in = f.work_y.data() + (std::size_t(f.r_index[2][m][K] + 1) * ncy + J) * ncx;
-        for (int I = 0; I < ncx; ++I) out[I] += w * in[I];
-      }
-    }
-}
-
-void GeometricMultigrid::Impl::prolong_add(Level& c, Level& f) {
-  // Per fine row: the four coarse rows combined first (y and z weights), then along x.
-  std::vector<double>& t = c.r;  // coarse work row (the coarse residual is free here)
-  const int ncx2 = c.n.x + 2;
-  const int *i0 = f.p_index[0][0].data(), *i1 = f.p_index[0][1].data();
-  const double *w0 = f.p_weight[0][0].data(), *w1 = f.p_weight[0][1].data();
-  for (int k = 0; k < f.n.z; ++k)
-    for (int j = 0; j < f.n.y; ++j) {
-      double* row = t.data() + 1;  // coarse x index -1 .. n
-      std::fill(row - 1, row - 1 + ncx2, 0.0);
-      for (int mz = 0; mz < 2; ++mz)
-        for (int my = 0; my < 2; ++my) {
-          const double w = f.p_weight[2][mz][k] * f.p_weight[1][my][j];
-          if (w == 0) continue;
-          const double* in = c.x.data() + c.blk.index(0, f.p_index[1][my][j], f.p_index[2][mz][k]);
-          for (int I = -1; I <= c.n.x; ++I) row[I] += w * in[I];
-        }
-      const auto q0 = f.blk.index(0, j, k);
-      double* x = f.x.data() + q0;
-      const double* d = f.diag.data() + q0;
-      for (int i = 0; i < f.n.x; ++i) {
-        const double s = w0[i] * row[i0[i]] + w1[i] * row[i1[i]];
-        x[i] += d[i] > 0 ? s : 0.0;  // solid cells stay at zero
-      }
-    }
-}
-
 void GeometricMultigrid::Impl::vcycle(int l) {
   Level& v = L[l];
   if (l + 1 == static_cast<int>(L.size())) {
@@ -673,27 +443,31 @@ void GeometricMultigrid::Impl::vcycle(int l) {
   for (int s = 0; s < sweeps; ++s) {
     if (s > 0) {
       v.halo->exchange(v.x);
-      smooth(v, 0);
+      multigrid::smooth(v, 0, omega);
     } else {
-      smooth_from_zero(v);
+      multigrid::smooth_from_zero(v, omega);
     }
     v.halo->exchange(v.x);
-    smooth(v, 1);
+    multigrid::smooth(v, 1, omega);
   }
   v.halo->exchange(v.x);
-  residual(v);
+  multigrid::residual(v);
   v.halo->exchange(v.r);
   Level& c = L[l + 1];
-  restrict_to(v, c);
+  multigrid::restrict_to(v, c);
   vcycle(l + 1);
   c.halo->exchange(c.x);
-  prolong_add(c, v);
+  multigrid::prolong_add(c, v);
   for (int s = 0; s < sweeps; ++s) {  // the reverse order: the cycle stays symmetric
     v.halo->exchange(v.x);
-    smooth(v, 1);
+    multigrid::smooth(v, 1, omega);
     v.halo->exchange(v.x);
-    smooth(v, 0);
+    multigrid::smooth(v, 0, omega);
   }
+}
+
+void GeometricMultigrid::multiply(const double* x, double* y) {
+  multigrid::multiply(impl_->L[0], x, y);
 }
 
 void GeometricMultigrid::apply(const double* r, double* z) {
