@@ -7,7 +7,8 @@
 ///   mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare   # the preconditioners
 ///
 /// `--compare` runs the step case (and the sweep, if given) once per preconditioner of CG in one
-/// run: GAMG, BoomerAMG, the cell-centred PCMG and hypre's PFMG, each the peer of the others.
+/// run: GAMG, BoomerAMG, the cell-centred PCMG, hypre's PFMG and our matrix-free geometric
+/// multigrid (the default), each the peer of the others.
 #include <mpi.h>
 
 #include <cmath>
@@ -195,7 +196,8 @@ int main(int argc, char** argv) {
           {"GAMG", "-poisson_pc_type gamg"},
           {"BoomerAMG", "-poisson_pc_type hypre"},
           {"PCMG cell-centred", "-poisson_pc_type mg"},
-          {"PFMG", "-poisson_pc_type pfmg"}};
+          {"PFMG", "-poisson_pc_type pfmg"},
+          {"GMG matrix-free", "-poisson_pc_type gmg"}};
       std::vector<StepResult> results;
       for (const auto& [name, opts] : configs) {
         if (rank == 0) std::printf("\n#### %s (%s)\n", name.c_str(), opts.c_str());

@@ -3,20 +3,27 @@
 #include <petsc.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "linalg/block_halo.hpp"
 #include "linalg/cell_multigrid.hpp"
+#include "linalg/geometric_multigrid.hpp"
 #include "linalg/petsc_environment.hpp"
 
 #include "linalg/petsc_check.hpp"
 
 namespace biota::linalg {
 namespace {
+// Our matrix-free cell-centred geometric multigrid (geometric_multigrid.hpp), a PCSHELL.
+constexpr const char* kGeometricMG = "gmg";
 // Default preconditioner of CG (docs/wind.md, "Pressure Poisson solve", for the comparison).
-constexpr const char* kDefaultPC = PCPFMG;
+constexpr const char* kDefaultPC = kGeometricMG;
+// Red-black sweeps before and after the coarse correction (docs/performance-wind.md).
+constexpr int kGeometricMGSweeps = 2;
 
 /// The preconditioner the options ask for (they are read again by KSPSetFromOptions); the matrix
 /// type and the multigrid hierarchy depend on it, so it is needed before the matrix exists.
@@ -66,6 +73,34 @@ PetscErrorCode converged_on_max_residual(KSP ksp, PetscInt it, PetscReal rnorm,
   }
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode apply_geometric_multigrid(PC pc, Vec r, Vec z) {
+  void* ctx = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  const PetscScalar* ar;
+  PetscScalar* az;
+  PetscCall(VecGetArrayRead(r, &ar));
+  PetscCall(VecGetArrayWrite(z, &az));
+  static_cast<GeometricMultigrid*>(ctx)->apply(ar, az);
+  PetscCall(VecRestoreArrayRead(r, &ar));
+  PetscCall(VecRestoreArrayWrite(z, &az));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode multiply_geometric_multigrid(Mat A, Vec x, Vec y) {
+  void* ctx = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &ctx));
+  const PetscScalar* ax;
+  PetscScalar* ay;
+  PetscCall(VecGetArrayRead(x, &ax));
+  PetscCall(VecGetArrayWrite(y, &ay));
+  static_cast<GeometricMultigrid*>(ctx)->multiply(ax, ay);
+  PetscCall(VecRestoreArrayRead(x, &ax));
+  PetscCall(VecRestoreArrayWrite(y, &ay));
+  PetscFunctionReturn(0);
+}
 }  // namespace
 
 struct PoissonSolver::Impl {
@@ -77,11 +112,14 @@ struct PoissonSolver::Impl {
   MatNullSpace nullspace = nullptr;
   double dx = 1;
   grid::Box box;
-  std::vector<char> solid;              // owned cells, x fastest
-  bool explicit_tolerance = false;      // -poisson_ksp_rtol/_atol given: KSP's test alone
-  MaxResidualTest* max_test = nullptr;  // owned by the KSP (destroyed with it)
+  std::vector<char> solid;                  // owned cells, x fastest
+  bool explicit_tolerance = false;          // -poisson_ksp_rtol/_atol given: KSP's test alone
+  MaxResidualTest* max_test = nullptr;      // owned by the KSP (destroyed with it)
+  std::unique_ptr<GeometricMultigrid> gmg;  // the PCSHELL's context with -poisson_pc_type gmg
+  Mat A_free = nullptr;                     // and CG's operator then: the same stencil, matrix-free
   ~Impl() {
     if (ksp) KSPDestroy(&ksp);
+    if (A_free) MatDestroy(&A_free);
     if (nullspace) MatNullSpaceDestroy(&nullspace);
     if (A) MatDestroy(&A);
     if (b) VecDestroy(&b);
@@ -216,7 +254,48 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
   BIOTA_PETSC(KSPSetType(m.ksp, KSPCG));
   PC pc;
   BIOTA_PETSC(KSPGetPC(m.ksp, &pc));
-  if (pc_type == PCMG) {
+  PetscBool hidden_pc_type = PETSC_FALSE;
+  if (pc_type == kGeometricMG) {
+    // Our matrix-free geometric multigrid as a shell preconditioner. "gmg" is not a PETSc PC
+    // type, so the option is hidden from KSPSetFromOptions (which would reject it) and put back
+    // afterwards for the next solver.
+    BIOTA_PETSC(PetscOptionsHasName(nullptr, "poisson_", "-pc_type", &hidden_pc_type));
+    if (hidden_pc_type) BIOTA_PETSC(PetscOptionsClearValue(nullptr, "-poisson_pc_type"));
+    PetscInt sweeps = kGeometricMGSweeps, max_levels = 30;
+    PetscReal omega = 1;
+    BIOTA_PETSC(PetscOptionsGetReal(nullptr, "poisson_", "-gmg_omega", &omega, nullptr));
+    BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-gmg_sweeps", &sweeps, nullptr));
+    BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-gmg_levels", &max_levels, nullptr));
+    std::array<std::vector<int>, 3> starts;
+    for (int a = 0; a < 3; ++a)
+      for (int i = 0; i <= P[a]; ++i) starts[a].push_back(grid::block_start(N[a], P[a], i));
+    std::vector<char> solid_ghosted;
+    if (solid) {
+      const GhostedBlock blk(n);
+      solid_ghosted.assign(blk.size, 0);
+      for (int k = -1; k <= n.z; ++k)
+        for (int j = -1; j <= n.y; ++j)
+          for (int i = -1; i <= n.x; ++i) solid_ghosted[blk.index(i, j, k)] = is_solid(i, j, k);
+    }
+    m.gmg = std::make_unique<GeometricMultigrid>(decomp.comm(), N, starts, c, bcs, solid_ghosted,
+                                                 static_cast<int>(sweeps), omega,
+                                                 static_cast<int>(max_levels));
+    levels_ = m.gmg->levels();
+    BIOTA_PETSC(PCSetType(pc, PCSHELL));
+    BIOTA_PETSC(PCShellSetContext(pc, m.gmg.get()));
+    BIOTA_PETSC(PCShellSetApply(pc, apply_geometric_multigrid));
+    BIOTA_PETSC(PCShellSetName(pc, "gmg"));
+    // CG multiplies with the multigrid's finest-level stencil too (the same integers as the
+    // assembled matrix, without its index traffic).
+    PetscInt local = 0, global = 0;
+    BIOTA_PETSC(VecGetLocalSize(m.b, &local));
+    BIOTA_PETSC(VecGetSize(m.b, &global));
+    BIOTA_PETSC(MatCreateShell(m.comm, local, local, global, global, m.gmg.get(), &m.A_free));
+    BIOTA_PETSC(MatShellSetOperation(
+        m.A_free, MATOP_MULT, reinterpret_cast<void (*)(void)>(multiply_geometric_multigrid)));
+    if (m.nullspace) BIOTA_PETSC(MatSetNullSpace(m.A_free, m.nullspace));
+    BIOTA_PETSC(KSPSetOperators(m.ksp, m.A_free, m.A_free));
+  } else if (pc_type == PCMG) {
     // Cell-centred geometric multigrid (PETSc's DMDA coarsening is vertex-centred, see
     // cell_multigrid.hpp). -poisson_pc_mg_levels caps the level count; it is consumed here
     // because PCMG would otherwise rebuild empty levels from it.
@@ -246,6 +325,11 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     if (!pfmg_tol_set) BIOTA_PETSC(PetscOptionsSetValue(nullptr, "-poisson_pc_pfmg_tol", "0"));
   }
   BIOTA_PETSC(KSPSetFromOptions(m.ksp));
+  if (hidden_pc_type) {
+    BIOTA_PETSC(PetscOptionsSetValue(nullptr, "-poisson_pc_type", kGeometricMG));
+    PetscBool used = PETSC_FALSE;  // queried again, so it is not reported as unused
+    BIOTA_PETSC(PetscOptionsHasName(nullptr, "poisson_", "-pc_type", &used));
+  }
   if (!pfmg_tol_set) BIOTA_PETSC(PetscOptionsClearValue(nullptr, "-poisson_pc_pfmg_tol"));
   PetscBool rtol_set = PETSC_FALSE, atol_set = PETSC_FALSE;
   BIOTA_PETSC(PetscOptionsHasName(nullptr, "poisson_", "-ksp_rtol", &rtol_set));
@@ -299,8 +383,11 @@ std::string PoissonSolver::description() const {
   KSPGetType(impl_->ksp, &kt);
   KSPGetPC(impl_->ksp, &pc);
   PCGetType(pc, &pt);
-  std::string d = std::string(kt) + " + " + pt;
-  if (levels_ > 0) d += " (cell-centred, " + std::to_string(levels_) + " levels)";
+  std::string d = std::string(kt) + " + " + (impl_->gmg ? kGeometricMG : pt);
+  if (impl_->gmg)
+    d += " (matrix-free geometric, " + std::to_string(levels_) + " levels)";
+  else if (levels_ > 0)
+    d += " (cell-centred, " + std::to_string(levels_) + " levels)";
   return d;
 }
 

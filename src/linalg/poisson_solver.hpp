@@ -33,9 +33,11 @@ struct SolveStats {
 };
 
 /// \brief Solves L p = rhs. Options prefix `poisson_`; default `-poisson_ksp_type cg
-/// -poisson_pc_type pfmg` (hypre PFMG on a MATHYPRESTRUCT matrix), unpreconditioned residual norm,
-/// rtol 1e-10 or the caller's max-residual target, whichever comes first; `gamg`, `hypre`
-/// (BoomerAMG) and `mg` (cell-centred PCMG) select the others.
+/// -poisson_pc_type gmg` (our matrix-free geometric multigrid, geometric_multigrid.hpp; options
+/// `-poisson_gmg_sweeps`, `-poisson_gmg_omega`, `-poisson_gmg_levels`), unpreconditioned residual
+/// norm, rtol 1e-10 or the caller's max-residual target, whichever comes first; `pfmg` (hypre
+/// PFMG on a MATHYPRESTRUCT matrix), `gamg`, `hypre` (BoomerAMG) and `mg` (cell-centred PCMG)
+/// select the others.
 class PoissonSolver {
  public:
   /// \param solid optional cell mask (1 solid, 0 fluid) with at least one valid ghost layer.

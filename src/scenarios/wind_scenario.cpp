@@ -68,9 +68,10 @@ void WindScenario::declare_config(core::ConfigSchema& s) {
   s.add_string(
       "wind.poisson_options", "", {},
       "PETSc options of the pressure solve, all under -poisson_ (default: -poisson_ksp_type "
-      "cg -poisson_pc_type pfmg, stopping when the divergence after projection is <= 1e-10 "
-      "relative or at rtol 1e-10; an explicit -poisson_ksp_rtol/_atol keeps KSP's test alone; "
-      "also gamg, hypre (BoomerAMG), mg (cell-centred geometric)); the command line after -- wins");
+      "cg -poisson_pc_type gmg (matrix-free geometric multigrid), stopping when the divergence "
+      "after projection is <= 1e-10 relative or at rtol 1e-10; an explicit "
+      "-poisson_ksp_rtol/_atol keeps KSP's test alone; also pfmg (hypre), gamg, hypre "
+      "(BoomerAMG), mg (cell-centred Galerkin PCMG)); the command line after -- wins");
 }
 
 solvers::mac::MacParams wind_params_from_config(const core::Config& cfg) {

@@ -112,7 +112,8 @@ TEST(Poisson, MultigridIterationsFlatInGridSize) {
   int rank;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   for (const std::string opts :
-       {"", "-poisson_pc_type mg", "-poisson_pc_type gamg", "-poisson_pc_type hypre"})
+       {"", "-poisson_pc_type gmg", "-poisson_pc_type pfmg", "-poisson_pc_type mg",
+        "-poisson_pc_type gamg", "-poisson_pc_type hypre"})
     for (PressureBC bc : {PressureBC::kNeumann, PressureBC::kDirichlet}) {
       int lo = 1 << 30, hi = 0;
       std::vector<double> err;
