@@ -126,6 +126,16 @@ LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
   halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, pull);
   fold_ = std::make_unique<grid::GhostFold>(decomp, f_, push);
   halo_u_ = std::make_unique<grid::HaloExchange>(decomp, u_);
+  // The neighbour step's exchange and fold overlap the sweep when one axis alone has neighbours
+  // (then both are a single pass along it) and it is y or z (whole rows; an x split would cut
+  // every row).
+  int active = 0;
+  for (int a = 0; a < 3; ++a)
+    if (decomp.neighbor(a, 0) != MPI_PROC_NULL || decomp.neighbor(a, 1) != MPI_PROC_NULL) {
+      ++active;
+      overlap_axis_ = a;
+    }
+  if (active != 1 || overlap_axis_ == 0) overlap_axis_ = -1;
   initialize([](const Index3&, double& rho, Vec3& u) {
     rho = 1.0;
     u = {};
@@ -305,13 +315,42 @@ void LbmSolver::build_plans() {
   // of s before a neighbour step, slot q of x before a local one. The post-collision population p
   // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
   const auto plane = static_cast<std::int64_t>(f_.plane_size());
+  // Overlap: a neighbour-step link is late when a cell it writes or reads (s, x, x2; before a
+  // neighbour step every location it touches is a slot of one of them) lies in a ghost layer the
+  // exchange fills. It runs after the exchange lands; the sweep of cell r touches the cells
+  // r-1..r+1 along the axis, so the rows up to one past the late links' cells are swept after it
+  // (band_), and the interior rows before, untouched by either.
+  const int axis = overlap_axis_;
+  const int n = axis >= 0 ? decomp_.local_cells()[axis] : 0;
+  auto row = [&](std::int64_t c) {
+    const std::int64_t g = f_.ghosts();
+    return static_cast<int>(axis == 1 ? (c / f_.stride_y()) % (n + 2 * g) - g
+                                      : c / f_.stride_z() - g);
+  };
+  band_[0] = band_[1] = 1;
+  std::vector<char> late(links_.size(), 0);
+  if (axis >= 0)
+    for (std::size_t i = 0; i < links_.size(); ++i) {
+      const Link& l = links_[i];
+      int lo = row(l.s), hi = lo;
+      for (std::int64_t c : {l.x, l.type == int(FaceType::kFreeSlip) ? l.x2 : l.x}) {
+        lo = std::min(lo, row(c));
+        hi = std::max(hi, row(c));
+      }
+      if (lo < 0) band_[0] = std::max(band_[0], hi + 2);
+      if (hi >= n) band_[1] = std::max(band_[1], n - lo + 1);
+      late[i] = lo < 0 || hi >= n;
+    }
+  overlap_ = axis >= 0 && band_[0] + band_[1] <= n;
+  late_plan_ = {};
   for (int streamed = 0; streamed < 2; ++streamed) {
     auto post = [&](int p, std::int64_t c) {
       return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
     };
-    BoundaryPlan& plan = plans_[streamed];
-    plan = {};
-    for (const Link& l : links_) {
+    plans_[streamed] = {};
+    for (std::size_t i = 0; i < links_.size(); ++i) {
+      const Link& l = links_[i];
+      BoundaryPlan& plan = !streamed && overlap_ && late[i] ? late_plan_ : plans_[streamed];
       const int q = l.q;
       const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
       switch (l.type) {
@@ -333,18 +372,18 @@ void LbmSolver::build_plans() {
       }
     }
     // Walk the targets in memory order (the links come cell by cell, 19 planes apart).
-    std::sort(plan.copies.begin(), plan.copies.end());
+    std::sort(plans_[streamed].copies.begin(), plans_[streamed].copies.end());
   }
+  std::sort(late_plan_.copies.begin(), late_plan_.copies.end());
 }
 
-void LbmSolver::apply_boundaries() {
+void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
   const double t = time();
   const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
                                                     params_.inlet.time_factor(t)
                                               : 0.0;
   // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
   double* base = f_.component(0);
-  const BoundaryPlan& plan = plans_[streamed_];
   // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
   for (const auto& [dst, src] : plan.copies) base[dst] = base[src];
   // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
@@ -378,7 +417,7 @@ void LbmSolver::apply_boundaries() {
   }
 }
 
-void LbmSolver::sweep(bool macro) {
+void LbmSolver::sweep(bool macro, int begin, int end) {
   const Vec3& bf = params_.body_force;
   AaSweepArgs a{
       &f_,
@@ -389,6 +428,12 @@ void LbmSolver::sweep(bool macro) {
       {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
        units_.force_density_to_lattice(bf.z)},
       params_.trt ? Relaxation::trt(units_.tau(), params_.magic) : Relaxation::bgk(units_.tau())};
+  const Index3 n = decomp_.local_cells();
+  a.j_end = n.y;
+  a.k_end = n.z;
+  if (end >= 0) (overlap_axis_ == 1 ? a.j_begin : a.k_begin) = begin;
+  if (end >= 0) (overlap_axis_ == 1 ? a.j_end : a.k_end) = end;
+  if (a.j_begin >= a.j_end || a.k_begin >= a.k_end) return;
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
@@ -399,24 +444,66 @@ void LbmSolver::sweep(bool macro) {
   fn(a);
 }
 
+void LbmSolver::overlapped_neighbour_step(bool macro) {
+  // Bitwise the sequential step: every cell writes exactly the locations it read, so the order of
+  // the cells is free as long as each finds its inputs in place. The exchange fills only the
+  // ghost layers of overlap_axis_, which the interior rows do not touch; the late links write and
+  // read only cells of the bands; the fold lands in slots no owned cell of this step touches.
+  const int n = decomp_.local_cells()[overlap_axis_];
+  const int inner = n - band_[1];
+  const int mid = band_[0] + (inner - band_[0]) / 2;
+  const double t0 = MPI_Wtime();
+  halo_->begin();
+  const double t1 = MPI_Wtime();
+  apply_boundaries(plans_[0]);
+  const double t2 = MPI_Wtime();
+  sweep(macro, band_[0], mid);
+  const double t3 = MPI_Wtime();
+  halo_->end();
+  const double t4 = MPI_Wtime();
+  apply_boundaries(late_plan_);
+  const double t5 = MPI_Wtime();
+  sweep(macro, 0, band_[0]);
+  sweep(macro, inner, n);
+  const double t6 = MPI_Wtime();
+  fold_->begin();
+  const double t7 = MPI_Wtime();
+  sweep(macro, mid, inner);
+  const double t8 = MPI_Wtime();
+  fold_->end();
+  const double t9 = MPI_Wtime();
+  t_halo_ += (t1 - t0) + (t4 - t3) + (t7 - t6) + (t9 - t8);
+  t_boundary_ += (t2 - t1) + (t5 - t4);
+  t_collide_ += (t3 - t2) + (t6 - t5) + (t8 - t7);
+}
+
 void LbmSolver::step(bool update_macro) {
   // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
   // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
   const bool neighbour_step = !streamed_;
-  double t0 = MPI_Wtime();
-  if (neighbour_step) halo_->exchange();
-  double t1 = MPI_Wtime();
-  apply_boundaries();
-  double t2 = MPI_Wtime();
-  sweep(update_macro);
-  double t3 = MPI_Wtime();
-  if (neighbour_step) fold_->fold();
-  streamed_ = neighbour_step;
-  if (update_macro) halo_u_->exchange();
-  double t4 = MPI_Wtime();
-  t_halo_ += (t1 - t0) + (t4 - t3);
-  t_boundary_ += t2 - t1;
-  t_collide_ += t3 - t2;
+  if (neighbour_step && overlap_) {
+    overlapped_neighbour_step(update_macro);
+    streamed_ = true;
+    const double t0 = MPI_Wtime();
+    if (update_macro) halo_u_->exchange();
+    t_halo_ += MPI_Wtime() - t0;
+  } else {
+    double t0 = MPI_Wtime();
+    if (neighbour_step) halo_->exchange();
+    double t1 = MPI_Wtime();
+    apply_boundaries(plans_[streamed_]);
+    if (neighbour_step) apply_boundaries(late_plan_);  // empty unless overlap_
+    double t2 = MPI_Wtime();
+    sweep(update_macro);
+    double t3 = MPI_Wtime();
+    if (neighbour_step) fold_->fold();
+    streamed_ = neighbour_step;
+    if (update_macro) halo_u_->exchange();
+    double t4 = MPI_Wtime();
+    t_halo_ += (t1 - t0) + (t4 - t3);
+    t_boundary_ += t2 - t1;
+    t_collide_ += t3 - t2;
+  }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
 }
