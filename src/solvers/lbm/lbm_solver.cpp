@@ -135,7 +135,7 @@ LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
       ++active;
       overlap_axis_ = a;
     }
-  if (active != 1 || overlap_axis_ == 0) overlap_axis_ = -1;
+  if (active != 1 || overlap_axis_ == 0 || !params.overlap_halo) overlap_axis_ = -1;
   initialize([](const Index3&, double& rho, Vec3& u) {
     rho = 1.0;
     u = {};

@@ -74,6 +74,9 @@ struct LbmParams {
   InletPatch inlet;
   OutletPatch outlet;
   double max_mach = 0.3;
+  /// Overlap the neighbour step's halo exchange with the sweep where possible (bitwise the same;
+  /// off only for benchmark A/B runs, not a deck key).
+  bool overlap_halo = true;
   /// \brief Read and check the `lbm.*` keys (tau/Mach stability is checked here: InputError).
   static LbmParams from_config(const core::Config& cfg);
   std::array<bool, 3> periodic() const {
