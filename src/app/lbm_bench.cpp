@@ -136,6 +136,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     fmt::print("biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case\n",
                opts.size, size, layout.dims().x, layout.dims().y, layout.dims().z, opts.steps);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
+    if (!opts.overlap) fmt::print("halo exchange not overlapped with the sweep (--no-overlap)\n");
     if (!opts.peer)
       fmt::print("peer: not run (--no-peer)\n");
     else if (peer.empty())
@@ -173,6 +174,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     p.outlet.center[0] = p.outlet.center[1] = 0.5;
     p.outlet.r_min = 0.35;
     p.body_force = {0, 0, -1e-3};
+    p.overlap_halo = opts.overlap;
     grid::Decomposition decomp(comm, p.cells, p.periodic());
     solvers::lbm::LbmSolver lbm(decomp, p);
     lbm.enable_force_field();

@@ -16,6 +16,7 @@ struct LbmBenchOptions {
   std::vector<std::string> cases;  ///< "D3Q19/bgk" etc.; empty = all four
   bool peer = true;                ///< run the RRZE peer (run-lbm-peer.sh) when it is found
   bool two_grid = true;            ///< also time the former two-grid pull sweep (kernel only)
+  bool overlap = true;             ///< overlap the halo exchange with the sweep (production)
 };
 
 /// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.

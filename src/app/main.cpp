@@ -156,6 +156,8 @@ int main(int argc, char** argv) {
   bench->add_flag("!--no-peer", bench_opts.peer, "lbm: do not run the RRZE peer kernels");
   bench->add_flag("!--no-two-grid", bench_opts.two_grid,
                   "lbm: do not time the former two-grid sweep");
+  bench->add_flag("!--no-overlap", bench_opts.overlap,
+                  "lbm: exchange the halo before the sweep instead of during it (A/B)");
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
   bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");

@@ -38,6 +38,9 @@ GhostFold::GhostFold(const Decomposition& decomp, Field<core::Real>& field, Face
     }
     const int tag = 200 + axis * 2;
     MPI_Comm comm = decomp.comm();
+    if (overlap_axis_ < 0 &&
+        (decomp.neighbor(axis, 0) != MPI_PROC_NULL || decomp.neighbor(axis, 1) != MPI_PROC_NULL))
+      overlap_axis_ = axis;
     for (int side = 0; side < 2; ++side) {
       const int nb = decomp.neighbor(axis, side);
       MPI_Recv_init(p.recv[side].data(), static_cast<int>(p.recv[side].size()), MPI_DOUBLE, nb,
@@ -57,26 +60,42 @@ GhostFold::~GhostFold() {
       if (r != MPI_REQUEST_NULL) MPI_Request_free(&r);
 }
 
-void GhostFold::fold() {
-  const int g = field_->ghosts();
-  for (int axis = 2; axis >= 0; --axis) {
-    Pass& p = passes_[axis];
-    const int n = field_->cells()[axis];
-    MPI_Startall(2, p.requests.data());
-    for (int side = 0; side < 2; ++side) {
-      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
-      core::Real* out = p.send[side].data();
-      for_slab(axis, side == 0 ? -g : n, faces_[axis][side], [&](core::Real& v) { *out++ = v; });
-    }
-    MPI_Startall(2, p.requests.data() + 2);
-    MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
-    for (int side = 0; side < 2; ++side) {
-      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
-      const core::Real* in = p.recv[side].data();
-      for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
-               [&](core::Real& v) { v = *in++; });
-    }
+void GhostFold::start_pass(int axis) {
+  const int g = field_->ghosts(), n = field_->cells()[axis];
+  Pass& p = passes_[axis];
+  MPI_Startall(2, p.requests.data());
+  for (int side = 0; side < 2; ++side) {
+    if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+    core::Real* out = p.send[side].data();
+    for_slab(axis, side == 0 ? -g : n, faces_[axis][side], [&](core::Real& v) { *out++ = v; });
   }
+  MPI_Startall(2, p.requests.data() + 2);
+}
+
+void GhostFold::finish_pass(int axis) {
+  const int g = field_->ghosts(), n = field_->cells()[axis];
+  Pass& p = passes_[axis];
+  MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
+  for (int side = 0; side < 2; ++side) {
+    if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+    const core::Real* in = p.recv[side].data();
+    for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
+             [&](core::Real& v) { v = *in++; });
+  }
+}
+
+// Passes run z, then y, then x; those before the overlapped one (the lowest axis with a
+// neighbour) have to land first, as later passes carry what they wrote.
+void GhostFold::begin() {
+  for (int axis = 2; axis > overlap_axis_; --axis) {
+    start_pass(axis);
+    finish_pass(axis);
+  }
+  if (overlap_axis_ >= 0) start_pass(overlap_axis_);
+}
+
+void GhostFold::end() {
+  if (overlap_axis_ >= 0) finish_pass(overlap_axis_);
 }
 
 }  // namespace biota::grid

@@ -30,7 +30,16 @@ class GhostFold {
   GhostFold& operator=(const GhostFold&) = delete;
 
   /// \brief Move the listed ghost components onto the neighbours' owned cells (ghosts unchanged).
-  void fold();
+  void fold() {
+    begin();
+    end();
+  }
+  /// \brief The fold split for overlap with computation: `begin` completes the passes before the
+  /// last one with a neighbour (lowest such axis, `overlap_axis`), then packs and starts that one;
+  /// `end` waits and writes the owned layers next to its faces.
+  void begin();
+  void end();
+  int overlap_axis() const { return overlap_axis_; }
 
  private:
   struct Pass {
@@ -40,11 +49,14 @@ class GhostFold {
   };
   template <class F>
   void for_slab(int axis, int start, const std::vector<int>& comps, F&& f);
+  void start_pass(int axis);
+  void finish_pass(int axis);
 
   const Decomposition& decomp_;
   Field<core::Real>* field_;
   FaceComponents faces_;
   std::array<Pass, 3> passes_;
+  int overlap_axis_ = -1;
 };
 
 }  // namespace biota::grid

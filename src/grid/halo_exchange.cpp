@@ -85,6 +85,8 @@ HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field
     }
     const int tag = 100 + axis * 4;
     MPI_Comm comm = decomp.comm();
+    if (decomp.neighbor(axis, 0) != MPI_PROC_NULL || decomp.neighbor(axis, 1) != MPI_PROC_NULL)
+      overlap_axis_ = axis;
     for (int side = 0; side < 2; ++side) {
       int nb = decomp.neighbor(axis, side);
       MPI_Recv_init(p.recv[side].data(), static_cast<int>(p.recv[side].size()), MPI_DOUBLE, nb,
@@ -109,29 +111,43 @@ HaloExchange::~HaloExchange() {
         if (r != MPI_REQUEST_NULL) MPI_Request_free(&r);
 }
 
-void HaloExchange::exchange() {
-  const int g = field_->ghosts();
-  for (int axis = 0; axis < 3; ++axis) {
-    Pass& p = passes_[axis];
-    const int n = field_->cells()[axis];
-    MPI_Startall(2, p.requests.data());
-    for (int side = 0; side < 2; ++side) {
-      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
-      core::Real* out = p.send[side].data();
-      for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
-               [&](core::Real& v) { *out++ = v; });
-      if (decomp_.neighbor(axis, side) !=
-          decomp_.rank())  // periodic image on this rank: no network
-        sent_.add(static_cast<long long>(p.send[side].size() * sizeof(core::Real)));
-    }
-    MPI_Startall(2, p.requests.data() + 2);
-    MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
-    for (int side = 0; side < 2; ++side) {
-      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
-      const core::Real* in = p.recv[side].data();
-      for_slab(axis, side == 0 ? -g : n, faces_[axis][side], [&](core::Real& v) { v = *in++; });
-    }
+void HaloExchange::start_pass(int axis) {
+  const int g = field_->ghosts(), n = field_->cells()[axis];
+  Pass& p = passes_[axis];
+  MPI_Startall(2, p.requests.data());
+  for (int side = 0; side < 2; ++side) {
+    if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+    core::Real* out = p.send[side].data();
+    for_slab(axis, side == 0 ? 0 : n - g, faces_[axis][1 - side],
+             [&](core::Real& v) { *out++ = v; });
+    if (decomp_.neighbor(axis, side) != decomp_.rank())  // periodic image on this rank: no network
+      sent_.add(static_cast<long long>(p.send[side].size() * sizeof(core::Real)));
   }
+  MPI_Startall(2, p.requests.data() + 2);
+}
+
+void HaloExchange::finish_pass(int axis) {
+  const int g = field_->ghosts(), n = field_->cells()[axis];
+  Pass& p = passes_[axis];
+  MPI_Waitall(4, p.requests.data(), MPI_STATUSES_IGNORE);
+  for (int side = 0; side < 2; ++side) {
+    if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+    const core::Real* in = p.recv[side].data();
+    for_slab(axis, side == 0 ? -g : n, faces_[axis][side], [&](core::Real& v) { v = *in++; });
+  }
+}
+
+void HaloExchange::begin() {
+  // Passes after the overlapped one have no neighbour on either side: nothing to carry.
+  for (int axis = 0; axis < overlap_axis_; ++axis) {
+    start_pass(axis);
+    finish_pass(axis);
+  }
+  if (overlap_axis_ >= 0) start_pass(overlap_axis_);
+}
+
+void HaloExchange::end() {
+  if (overlap_axis_ >= 0) finish_pass(overlap_axis_);
 }
 
 void HaloExchange::reverse_sum() {

@@ -43,7 +43,18 @@ class HaloExchange {
   HaloExchange& operator=(const HaloExchange&) = delete;
 
   /// \brief Copy owned boundary layers into the neighbours' ghost layers.
-  void exchange();
+  void exchange() {
+    begin();
+    end();
+  }
+  /// \brief The exchange split for overlap with computation: `begin` completes the passes before
+  /// the last axis with a neighbour (`overlap_axis`), then packs and starts that one; `end` waits
+  /// for it and fills its ghost layers. Between the two, the field's owned cells may be read and
+  /// written except the layer next to that axis's faces (packed) and its ghosts (filled by end).
+  void begin();
+  void end();
+  /// \brief The axis whose pass `begin` leaves in flight; -1 when no axis has a neighbour.
+  int overlap_axis() const { return overlap_axis_; }
   /// \brief The reverse: add every ghost layer into the owner's cells, then zero the ghosts.
   /// Used when particles spread forces into ghost cells (z, then y, then x pass).
   void reverse_sum();
@@ -68,12 +79,15 @@ class HaloExchange {
   // Visit the slab of `width` layers starting at local index `start` on `axis`, in pass order.
   template <class F>
   void for_slab(int axis, int start, const std::vector<int>& comps, F&& f);
+  void start_pass(int axis);
+  void finish_pass(int axis);
 
   const Decomposition& decomp_;
   Field<core::Real>* field_;
   FaceComponents faces_;
   std::vector<int> all_components_;  ///< 0..ncomp-1, what reverse_sum carries
   std::array<Pass, 3> passes_;
+  int overlap_axis_ = -1;
   core::CommCounter sent_;
 };
 

@@ -29,6 +29,9 @@ struct AaSweepArgs {
   const std::uint8_t* solid;
   double uniform_force[3];
   Relaxation relax;
+  /// Rows swept: y in [j_begin, j_end), z in [k_begin, k_end), all of x. Cells are independent
+  /// (each writes exactly the locations it read), so any split of the rows gives the same bits.
+  int j_begin = 0, j_end = 0, k_begin = 0, k_end = 0;
 };
 
 /// \brief One in-place step over the owned cells; `kFromPost` selects the neighbour step.
@@ -52,8 +55,8 @@ void aa_stream_collide(const AaSweepArgs& a) {
   double* ux = kMacro ? a.u->component(0) : nullptr;
   double* uy = kMacro ? a.u->component(1) : nullptr;
   double* uz = kMacro ? a.u->component(2) : nullptr;
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j) {
+  for (int k = a.k_begin; k < a.k_end; ++k)
+    for (int j = a.j_begin; j < a.j_end; ++j) {
       const std::ptrdiff_t row = fld.index(0, j, k);
       // Each cell writes exactly the locations it read and no other cell touches them.
 #pragma GCC ivdep

@@ -126,6 +126,16 @@ LbmSolver::LbmSolver(const grid::Decomposition& decomp, const LbmParams& params)
   halo_ = std::make_unique<grid::HaloExchange>(decomp, f_, pull);
   fold_ = std::make_unique<grid::GhostFold>(decomp, f_, push);
   halo_u_ = std::make_unique<grid::HaloExchange>(decomp, u_);
+  // The neighbour step's exchange and fold overlap the sweep when one axis alone has neighbours
+  // (then both are a single pass along it) and it is y or z (whole rows; an x split would cut
+  // every row).
+  int active = 0;
+  for (int a = 0; a < 3; ++a)
+    if (decomp.neighbor(a, 0) != MPI_PROC_NULL || decomp.neighbor(a, 1) != MPI_PROC_NULL) {
+      ++active;
+      overlap_axis_ = a;
+    }
+  if (active != 1 || overlap_axis_ == 0 || !params.overlap_halo) overlap_axis_ = -1;
   initialize([](const Index3&, double& rho, Vec3& u) {
     rho = 1.0;
     u = {};
@@ -207,178 +217,7 @@ void LbmSolver::set_solid(const std::function<bool(const Index3&)>& is_solid) {
   build_links();
 }
 
-void LbmSolver::build_links() {
-  links_.clear();
-  const Index3 n = decomp_.local_cells(), lo = decomp_.local_box().lo, N = decomp_.global_cells();
-  auto outside_axes = [&](const Index3& gc, int& count, int& face) {
-    count = 0;
-    for (int a = 0; a < 3; ++a) {
-      if (decomp_.periodic(a)) continue;
-      if (gc[a] < 0) {
-        ++count;
-        face = 2 * a;
-      }
-      if (gc[a] >= N[a]) {
-        ++count;
-        face = 2 * a + 1;
-      }
-    }
-  };
-  auto is_fluid_local = [&](int i, int j, int k) {
-    Index3 gc{lo.x + i, lo.y + j, lo.z + k};
-    int cnt = 0, face = -1;
-    outside_axes(gc, cnt, face);
-    return cnt == 0 && !solid_[f_.index(i, j, k)];
-  };
-  // Tangential coordinates [m] of a fluid cell centre on face `face`.
-  auto on_face = [&](int face, const Index3& gc, double& a, double& b) {
-    const int axis = face / 2;
-    const int t0 = axis == 0 ? 1 : 0, t1 = axis == 2 ? 1 : 2;
-    a = (gc[t0] + 0.5) * params_.dx;
-    b = (gc[t1] + 0.5) * params_.dx;
-  };
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) {
-        if (solid_[f_.index(i, j, k)]) continue;
-        const Index3 gx{lo.x + i, lo.y + j, lo.z + k};
-        for (int q = 1; q < nq_; ++q) {
-          const int si = i - c_[q][0], sj = j - c_[q][1], sk = k - c_[q][2];
-          const Index3 gs{lo.x + si, lo.y + sj, lo.z + sk};
-          int count = 0, face = -1;
-          outside_axes(gs, count, face);
-          Link l{f_.index(si, sj, sk), f_.index(i, j, k), 0, q, 0, int(FaceType::kWall), 0.0};
-          if (count == 0) {
-            if (!solid_[l.s]) continue;  // fluid neighbour: plain streaming
-          } else if (count == 1) {
-            FaceType t = params_.faces[face];
-            double a = 0, b = 0;
-            on_face(face, gx, a, b);
-            const auto& in = params_.inlet;
-            const auto& out = params_.outlet;
-            if (in.face == face) {
-              const double r2 =
-                  (a - in.center[0]) * (a - in.center[0]) + (b - in.center[1]) * (b - in.center[1]);
-              if (r2 <= in.radius * in.radius) {
-                const double profile = in.parabolic ? 1.0 - r2 / (in.radius * in.radius) : 1.0;
-                const int axis = face / 2;
-                const double normal = (face % 2 == 0) ? 1.0 : -1.0;  // into the domain
-                l.type = -1;
-                l.coef = 6.0 * w_[q] * c_[q][axis] * normal * profile;
-                links_.push_back(l);
-                continue;
-              }
-            }
-            if (out.face == face) {
-              const double r = std::hypot(a - out.center[0], b - out.center[1]);
-              if (r >= out.r_min && r <= out.r_max) t = out.type;
-            }
-            l.type = int(t);
-            if (t == FaceType::kFreeSlip) {
-              // Specular reflection: the population left x' = x - c_t in the mirrored direction.
-              const int axis = face / 2;
-              std::array<int, 3> mirrored = c_[q];
-              mirrored[axis] = -mirrored[axis];
-              int q2 = -1;
-              for (int p = 0; p < nq_; ++p)
-                if (c_[p] == mirrored) q2 = p;
-              int xi = i, xj = j, xk = k;
-              if (axis != 0) xi -= c_[q][0];
-              if (axis != 1) xj -= c_[q][1];
-              if (axis != 2) xk -= c_[q][2];
-              if (is_fluid_local(xi, xj, xk)) {
-                l.q2 = q2;
-                l.x2 = f_.index(xi, xj, xk);
-              } else {
-                l.type = int(FaceType::kWall);
-              }
-            }
-          }  // count > 1 (edges, corners): bounce-back wall
-          links_.push_back(l);
-        }
-      }
-  build_plans();
-}
-
-void LbmSolver::build_plans() {
-  // The value link (s -> x, q) delivers is what x reads as its streamed population q: slot opp(q)
-  // of s before a neighbour step, slot q of x before a local one. The post-collision population p
-  // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
-  const auto plane = static_cast<std::int64_t>(f_.plane_size());
-  for (int streamed = 0; streamed < 2; ++streamed) {
-    auto post = [&](int p, std::int64_t c) {
-      return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
-    };
-    BoundaryPlan& plan = plans_[streamed];
-    plan = {};
-    for (const Link& l : links_) {
-      const int q = l.q;
-      const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
-      switch (l.type) {
-        case -1:
-          plan.inlet.push_back({dst, post(opp_[q], l.x)});
-          plan.inlet_coef.push_back(l.coef);
-          break;
-        case int(FaceType::kFreeSlip):
-          plan.copies.push_back({dst, post(l.q2, l.x2)});
-          break;
-        case int(FaceType::kPressure):
-          plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
-          break;
-        case int(FaceType::kZeroGradient):
-          plan.copies.push_back({dst, post(q, l.x)});
-          break;
-        default:
-          plan.copies.push_back({dst, post(opp_[q], l.x)});
-      }
-    }
-    // Walk the targets in memory order (the links come cell by cell, 19 planes apart).
-    std::sort(plan.copies.begin(), plan.copies.end());
-  }
-}
-
-void LbmSolver::apply_boundaries() {
-  const double t = time();
-  const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
-                                                    params_.inlet.time_factor(t)
-                                              : 0.0;
-  // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
-  double* base = f_.component(0);
-  const BoundaryPlan& plan = plans_[streamed_];
-  // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
-  for (const auto& [dst, src] : plan.copies) base[dst] = base[src];
-  // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
-  for (std::size_t i = 0; i < plan.inlet.size(); ++i)
-    base[plan.inlet[i][0]] = base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in;
-  // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of the
-  // equilibrium enters, so the cell's velocity does not feed back linearly. (Plain equilibrium
-  // with the cell's velocity grew round-off at outlet/wall corners into a blow-up after ~4e4
-  // steps.) The cell's velocity is computed once for its consecutive links.
-  const double* f[32];
-  post_view(f);
-  std::int64_t cell = -1;
-  double ux = 0, uy = 0, uz = 0;
-  for (const auto& l : plan.pressure) {
-    if (l.cell != cell) {
-      cell = l.cell;
-      double m = 0, jx = 0, jy = 0, jz = 0;
-      for (int p = 0; p < nq_; ++p) {
-        const double v = f[p][cell];
-        m += v;
-        jx += c_[p][0] * v;
-        jy += c_[p][1] * v;
-        jz += c_[p][2] * v;
-      }
-      ux = jx / m, uy = jy / m, uz = jz / m;
-    }
-    const int q = l.q;
-    const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-    base[l.dst] =
-        -base[l.src] + 2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
-  }
-}
-
-void LbmSolver::sweep(bool macro) {
+void LbmSolver::sweep(bool macro, int begin, int end) {
   const Vec3& bf = params_.body_force;
   AaSweepArgs a{
       &f_,
@@ -389,6 +228,12 @@ void LbmSolver::sweep(bool macro) {
       {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
        units_.force_density_to_lattice(bf.z)},
       params_.trt ? Relaxation::trt(units_.tau(), params_.magic) : Relaxation::bgk(units_.tau())};
+  const Index3 n = decomp_.local_cells();
+  a.j_end = n.y;
+  a.k_end = n.z;
+  if (end >= 0) (overlap_axis_ == 1 ? a.j_begin : a.k_begin) = begin;
+  if (end >= 0) (overlap_axis_ == 1 ? a.j_end : a.k_end) = end;
+  if (a.j_begin >= a.j_end || a.k_begin >= a.k_end) return;
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
@@ -399,24 +244,66 @@ void LbmSolver::sweep(bool macro) {
   fn(a);
 }
 
+void LbmSolver::overlapped_neighbour_step(bool macro) {
+  // Bitwise the sequential step: every cell writes exactly the locations it read, so the order of
+  // the cells is free as long as each finds its inputs in place. The exchange fills only the
+  // ghost layers of overlap_axis_, which the interior rows do not touch; the late links write and
+  // read only cells of the bands; the fold lands in slots no owned cell of this step touches.
+  const int n = decomp_.local_cells()[overlap_axis_];
+  const int inner = n - band_[1];
+  const int mid = band_[0] + (inner - band_[0]) / 2;
+  const double t0 = MPI_Wtime();
+  halo_->begin();
+  const double t1 = MPI_Wtime();
+  apply_boundaries(plans_[0]);
+  const double t2 = MPI_Wtime();
+  sweep(macro, band_[0], mid);
+  const double t3 = MPI_Wtime();
+  halo_->end();
+  const double t4 = MPI_Wtime();
+  apply_boundaries(late_plan_);
+  const double t5 = MPI_Wtime();
+  sweep(macro, 0, band_[0]);
+  sweep(macro, inner, n);
+  const double t6 = MPI_Wtime();
+  fold_->begin();
+  const double t7 = MPI_Wtime();
+  sweep(macro, mid, inner);
+  const double t8 = MPI_Wtime();
+  fold_->end();
+  const double t9 = MPI_Wtime();
+  t_halo_ += (t1 - t0) + (t4 - t3) + (t7 - t6) + (t9 - t8);
+  t_boundary_ += (t2 - t1) + (t5 - t4);
+  t_collide_ += (t3 - t2) + (t6 - t5) + (t8 - t7);
+}
+
 void LbmSolver::step(bool update_macro) {
   // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
   // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
   const bool neighbour_step = !streamed_;
-  double t0 = MPI_Wtime();
-  if (neighbour_step) halo_->exchange();
-  double t1 = MPI_Wtime();
-  apply_boundaries();
-  double t2 = MPI_Wtime();
-  sweep(update_macro);
-  double t3 = MPI_Wtime();
-  if (neighbour_step) fold_->fold();
-  streamed_ = neighbour_step;
-  if (update_macro) halo_u_->exchange();
-  double t4 = MPI_Wtime();
-  t_halo_ += (t1 - t0) + (t4 - t3);
-  t_boundary_ += t2 - t1;
-  t_collide_ += t3 - t2;
+  if (neighbour_step && overlap_) {
+    overlapped_neighbour_step(update_macro);
+    streamed_ = true;
+    const double t0 = MPI_Wtime();
+    if (update_macro) halo_u_->exchange();
+    t_halo_ += MPI_Wtime() - t0;
+  } else {
+    double t0 = MPI_Wtime();
+    if (neighbour_step) halo_->exchange();
+    double t1 = MPI_Wtime();
+    apply_boundaries(plans_[streamed_]);
+    if (neighbour_step) apply_boundaries(late_plan_);  // empty unless overlap_
+    double t2 = MPI_Wtime();
+    sweep(update_macro);
+    double t3 = MPI_Wtime();
+    if (neighbour_step) fold_->fold();
+    streamed_ = neighbour_step;
+    if (update_macro) halo_u_->exchange();
+    double t4 = MPI_Wtime();
+    t_halo_ += (t1 - t0) + (t4 - t3);
+    t_boundary_ += t2 - t1;
+    t_collide_ += t3 - t2;
+  }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
 }

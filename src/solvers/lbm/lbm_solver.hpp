@@ -74,6 +74,9 @@ struct LbmParams {
   InletPatch inlet;
   OutletPatch outlet;
   double max_mach = 0.3;
+  /// Overlap the neighbour step's halo exchange with the sweep where possible (bitwise the same;
+  /// off only for benchmark A/B runs, not a deck key).
+  bool overlap_halo = true;
   /// \brief Read and check the `lbm.*` keys (tau/Mach stability is checked here: InputError).
   static LbmParams from_config(const core::Config& cfg);
   std::array<bool, 3> periodic() const {
@@ -167,8 +170,12 @@ class LbmSolver {
   };
   void build_links();
   void build_plans();
-  void apply_boundaries();
-  void sweep(bool macro);
+  void apply_boundaries(const BoundaryPlan& plan);
+  /// \brief Sweep the owned cells; with `overlap_` only the rows [begin, end) along overlap_axis_.
+  void sweep(bool macro, int begin = 0, int end = -1);
+  /// \brief A neighbour step with the halo exchange and the ghost fold in flight during parts of
+  /// the interior sweep (see step()).
+  void overlapped_neighbour_step(bool macro);
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
   /// \brief The post-collision populations in natural order (solid cells at rest, w_q).
@@ -189,7 +196,14 @@ class LbmSolver {
   std::unique_ptr<grid::HaloExchange> halo_, halo_u_;  ///< before a neighbour step; velocity
   std::unique_ptr<grid::GhostFold> fold_;              ///< after a neighbour step
   std::vector<Link> links_;
-  BoundaryPlan plans_[2];  ///< [streamed_]
+  BoundaryPlan plans_[2];  ///< [streamed_]; with overlap_, [0] holds the links not in late_plan_
+  /// Overlap of the neighbour step's communication with its sweep, when exactly one axis (y or z)
+  /// has neighbours: the neighbour-step links that touch that axis's ghost layers (applied after
+  /// the exchange lands), and the rows next to each face (band_) swept after them.
+  bool overlap_ = false;
+  int overlap_axis_ = -1;
+  int band_[2] = {1, 1};
+  BoundaryPlan late_plan_;
   long long step_ = 0;
   double updates_ = 0, t_collide_ = 0, t_halo_ = 0, t_boundary_ = 0;
 };
