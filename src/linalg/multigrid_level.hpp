@@ -36,7 +36,6 @@ struct Level {
   std::array<std::array<std::vector<int>, 4>, 3> r_index;
   std::array<std::array<std::vector<double>, 4>, 3> r_weight;
   std::vector<double> work_x, work_y;  // restriction's intermediate sums
-  std::vector<double> row_work;        // smoother's Gauss-Seidel values of one x-line
 
   std::ptrdiff_t stride(int a) const { return a == 0 ? 1 : a == 1 ? blk.sy : blk.sz; }
   /// Centre distance across the high face of global cell g (half width at a non-periodic face).
