@@ -74,17 +74,27 @@ PetscErrorCode converged_on_max_residual(KSP ksp, PetscInt it, PetscReal rnorm,
   PetscFunctionReturn(0);
 }
 
+// Calls f(in, out) on the arrays of two vectors (the shell callbacks below).
+template <class F>
+PetscErrorCode on_arrays(Vec in, Vec out, F&& f) {
+  const PetscScalar* a;
+  PetscScalar* b;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(in, &a));
+  PetscCall(VecGetArrayWrite(out, &b));
+  f(a, b);
+  PetscCall(VecRestoreArrayRead(in, &a));
+  PetscCall(VecRestoreArrayWrite(out, &b));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode apply_geometric_multigrid(PC pc, Vec r, Vec z) {
   void* ctx = nullptr;
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &ctx));
-  const PetscScalar* ar;
-  PetscScalar* az;
-  PetscCall(VecGetArrayRead(r, &ar));
-  PetscCall(VecGetArrayWrite(z, &az));
-  static_cast<GeometricMultigrid*>(ctx)->apply(ar, az);
-  PetscCall(VecRestoreArrayRead(r, &ar));
-  PetscCall(VecRestoreArrayWrite(z, &az));
+  PetscCall(on_arrays(r, z, [&](const PetscScalar* ar, PetscScalar* az) {
+    static_cast<GeometricMultigrid*>(ctx)->apply(ar, az);
+  }));
   PetscFunctionReturn(0);
 }
 
@@ -92,13 +102,9 @@ PetscErrorCode multiply_geometric_multigrid(Mat A, Vec x, Vec y) {
   void* ctx = nullptr;
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &ctx));
-  const PetscScalar* ax;
-  PetscScalar* ay;
-  PetscCall(VecGetArrayRead(x, &ax));
-  PetscCall(VecGetArrayWrite(y, &ay));
-  static_cast<GeometricMultigrid*>(ctx)->multiply(ax, ay);
-  PetscCall(VecRestoreArrayRead(x, &ax));
-  PetscCall(VecRestoreArrayWrite(y, &ay));
+  PetscCall(on_arrays(x, y, [&](const PetscScalar* ax, PetscScalar* ay) {
+    static_cast<GeometricMultigrid*>(ctx)->multiply(ax, ay);
+  }));
   PetscFunctionReturn(0);
 }
 }  // namespace
@@ -168,7 +174,10 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     throw std::logic_error("PoissonSolver: DMDA ownership differs from the Decomposition");
 
   // ---- operator: A = -dx^2 L (symmetric positive (semi)definite, integer entries) -------------
-  BIOTA_PETSC(DMCreateMatrix(m.da, &m.A));
+  // Assembled for PETSc's and hypre's preconditioners; the geometric multigrid and the CG around it
+  // apply the same stencil matrix-free, so it is not assembled then.
+  const bool assembled = pc_type != kGeometricMG;
+  if (assembled) BIOTA_PETSC(DMCreateMatrix(m.da, &m.A));
   BIOTA_PETSC(DMCreateGlobalVector(m.da, &m.b));
   BIOTA_PETSC(VecDuplicate(m.b, &m.x));
   const core::Index3 n = m.box.extent(), lo = m.box.lo;
@@ -192,9 +201,11 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
           m.solid[idx] = 1;
           ++nsolid_local;
           PetscScalar one = 1;
-          BIOTA_PETSC(MatSetValuesStencil(m.A, 1, &row, 1, &row, &one, INSERT_VALUES));
+          if (assembled)
+            BIOTA_PETSC(MatSetValuesStencil(m.A, 1, &row, 1, &row, &one, INSERT_VALUES));
           continue;
         }
+        if (!assembled) continue;
         MatStencil cols[7];
         PetscScalar vals[7];
         int nc = 1;
@@ -223,8 +234,10 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
         vals[0] = diag;
         BIOTA_PETSC(MatSetValuesStencil(m.A, 1, &row, nc, cols, vals, INSERT_VALUES));
       }
-  BIOTA_PETSC(MatAssemblyBegin(m.A, MAT_FINAL_ASSEMBLY));
-  BIOTA_PETSC(MatAssemblyEnd(m.A, MAT_FINAL_ASSEMBLY));
+  if (assembled) {
+    BIOTA_PETSC(MatAssemblyBegin(m.A, MAT_FINAL_ASSEMBLY));
+    BIOTA_PETSC(MatAssemblyEnd(m.A, MAT_FINAL_ASSEMBLY));
+  }
 
   long long nsolid = 0;
   MPI_Allreduce(&nsolid_local, &nsolid, 1, MPI_LONG_LONG, MPI_SUM, m.comm);
@@ -243,14 +256,16 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
       BIOTA_PETSC(MatNullSpaceCreate(m.comm, PETSC_FALSE, 1, &z, &m.nullspace));
       BIOTA_PETSC(VecDestroy(&z));
     }
-    BIOTA_PETSC(MatSetNullSpace(m.A, m.nullspace));
-    BIOTA_PETSC(MatSetTransposeNullSpace(m.A, m.nullspace));
+    if (assembled) {
+      BIOTA_PETSC(MatSetNullSpace(m.A, m.nullspace));
+      BIOTA_PETSC(MatSetTransposeNullSpace(m.A, m.nullspace));
+    }
   }
 
   // ---- solver: defaults, then options (deck and command line) ----------------------------------
   BIOTA_PETSC(KSPCreate(m.comm, &m.ksp));
   BIOTA_PETSC(KSPSetOptionsPrefix(m.ksp, "poisson_"));
-  BIOTA_PETSC(KSPSetOperators(m.ksp, m.A, m.A));
+  if (assembled) BIOTA_PETSC(KSPSetOperators(m.ksp, m.A, m.A));
   BIOTA_PETSC(KSPSetType(m.ksp, KSPCG));
   PC pc;
   BIOTA_PETSC(KSPGetPC(m.ksp, &pc));
