@@ -1,5 +1,6 @@
 #include "linalg/poisson_solver.hpp"
 
+#include <fmt/format.h>
 #include <petsc.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "linalg/block_halo.hpp"
 #include "linalg/cell_multigrid.hpp"
 #include "linalg/geometric_multigrid.hpp"
@@ -281,6 +283,17 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     BIOTA_PETSC(PetscOptionsGetReal(nullptr, "poisson_", "-gmg_omega", &omega, nullptr));
     BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-gmg_sweeps", &sweeps, nullptr));
     BIOTA_PETSC(PetscOptionsGetInt(nullptr, "poisson_", "-gmg_levels", &max_levels, nullptr));
+    // The same options on every rank, so every rank throws alike (no rank left in a collective).
+    const auto reject = [&](const char* name, double value, const char* range) {
+      // Cleared first: the options database outlives this solver (a later one must not see it).
+      for (const char* o : {"-poisson_gmg_sweeps", "-poisson_gmg_omega", "-poisson_gmg_levels"})
+        PetscOptionsClearValue(nullptr, o);
+      throw core::InputError(
+          fmt::format("{}: -poisson_{} {} is outside {}", options_key, name, value, range));
+    };
+    if (sweeps < 1 || sweeps > 100) reject("gmg_sweeps", double(sweeps), "[1, 100]");
+    if (!(omega > 0 && omega < 2)) reject("gmg_omega", omega, "(0, 2)");
+    if (max_levels < 1 || max_levels > 30) reject("gmg_levels", double(max_levels), "[1, 30]");
     std::array<std::vector<int>, 3> starts;
     for (int a = 0; a < 3; ++a)
       for (int i = 0; i <= P[a]; ++i) starts[a].push_back(grid::block_start(N[a], P[a], i));

@@ -84,6 +84,10 @@ TEST(WindScenario, BadInputErrors) {
                          "wind.poisson_options");
   expect_one_line_naming(error_of("wind.cfl=0.5", {"-poisson_pc_typo", "gamg"}),
                          "-poisson_pc_typo");
+  // The geometric multigrid's own options are range-checked (they are not PETSc's).
+  expect_one_line_naming(error_of("wind.poisson_options=\"-poisson_gmg_omega 2.5\""),
+                         "-poisson_gmg_omega");
+  expect_one_line_naming(error_of("wind.poisson_options=\"-poisson_gmg_sweeps 0\""), "[1, 100]");
   expect_one_line_naming(error_of("wind.boundary.y_lo=\"noslip\""), "wind.boundary.y_hi");
   EXPECT_EQ(error_of("wind.cfl=0.9"), "");
   // A valid command-line option is accepted.
