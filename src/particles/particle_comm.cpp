@@ -87,15 +87,12 @@ void ParticleComm::migrate(ParticleSet& set) {
   Real* x[3] = {set.real(ParticleSet::kPos, 0), set.real(ParticleSet::kPos, 1),
                 set.real(ParticleSet::kPos, 2)};
   // Axis by axis (each coordinate wraps on its own): a particle inside the box along d, nearly
-  // all of them, costs a subtraction and three comparisons (see wrap()).
+  // all of them, costs wrap()'s subtraction and three comparisons.
   for (int d = 0; d < 3; ++d) {
     if (!decomp_.periodic(d)) continue;
-    const Real lo = glo_[d], hi = ghi_[d], L = hi - lo;
     Real* xd = x[d];
     for (std::size_t i = 0, n = set.n_owned(); i < n; ++i) {
-      const Real v = xd[i], t = v - lo;
-      if (t > 0 && t < L && v < hi) continue;
-      const Real w = wrap(d, v);
+      const Real v = xd[i], w = wrap(d, v);
       if (w == v) continue;
       xd[i] = w;
       for (int a : set.extra_positions()) set.real(a, d)[i] += w - v;
@@ -210,29 +207,25 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
       if (side == 0 && me == 0) p.shift = L;
       if (side == 1 && me == dims - 1) p.shift = -L;
       const int dest = decomp_.neighbor(d, side), src = decomp_.neighbor(d, 1 - side);
-      if (dest == decomp_.rank() && src == dest) {
-        // A periodic axis not split over ranks: the images are this rank's own particles, so the
-        // columns are copied directly (no pack, message or unpack; the same values and order).
+      if (dest != MPI_PROC_NULL) {  // the particles within the cutoff of this side's face
         const Real* x = set.real(ParticleSet::kPos, d);
         const Real edge = side == 0 ? lo_[d] + cutoff : hi_[d] - cutoff;
         for (std::size_t i = 0; i < n_candidates; ++i)
           if (side == 0 ? x[i] < edge : x[i] >= edge) p.send.push_back(i);
+      }
+      if (dest == decomp_.rank() && src == dest) {
+        // A periodic axis not split over ranks: the images are this rank's own particles, so the
+        // columns are copied directly (no pack, message or unpack; the same values and order).
         p.recv_begin = set.n_total();
         p.recv_count = p.send.size();
         set.append_ghost_copies(p.send, d, p.shift);
         continue;
       }
       std::vector<double> out;
-      if (dest != MPI_PROC_NULL) {
-        const Real* x = set.real(ParticleSet::kPos, d);
-        for (std::size_t i = 0; i < n_candidates; ++i) {
-          const bool near = side == 0 ? x[i] < lo_[d] + cutoff : x[i] >= hi_[d] - cutoff;
-          if (!near) continue;
-          p.send.push_back(i);
-          const std::size_t at = out.size();
-          set.pack(i, true, out);
-          for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
-        }
+      for (std::size_t i : p.send) {
+        const std::size_t at = out.size();
+        set.pack(i, true, out);
+        for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
       }
       auto in = sendrecv(out, dest, src, kTagGhost + 2 * side, comm, sent_);
       const std::size_t n = in.size() / w, first = set.n_total();
