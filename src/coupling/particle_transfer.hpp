@@ -35,6 +35,33 @@ void interpolate_to_particles(const Transfer& t, const grid::Field<core::Real>& 
     set.set_vec3(a_out, i, t.interpolate_at(field, set.vec3(a_at, i)) * scale);
 }
 
+/// \brief The owned cells that interpolate_to_particles() reads for the owned particles at a_at,
+/// as one box per cell row (x-range of the row's cells read, unit extent in y and z; rows with no
+/// cell read are left out). `cells` is the owned block's extent. Needs a transfer with
+/// `grid::Box stencil_box(const Vec3& p) const` (local cell indices).
+template <class Transfer>
+std::vector<grid::Box> sampled_cell_rows(const Transfer& t, const particles::ParticleSet& set,
+                                         int a_at, core::Index3 cells) {
+  std::vector<int> lo(static_cast<std::size_t>(cells.y) * cells.z, cells.x), hi(lo.size(), 0);
+  for (std::size_t i = 0; i < set.n_owned(); ++i) {
+    const grid::Box b = t.stencil_box(set.vec3(a_at, i));
+    const int x0 = std::max(b.lo.x, 0), x1 = std::min(b.hi.x, cells.x);
+    for (int k = std::max(b.lo.z, 0); k < std::min(b.hi.z, cells.z); ++k)
+      for (int j = std::max(b.lo.y, 0); j < std::min(b.hi.y, cells.y); ++j) {
+        const std::size_t r = j + static_cast<std::size_t>(cells.y) * k;
+        lo[r] = std::min(lo[r], x0);
+        hi[r] = std::max(hi[r], x1);
+      }
+  }
+  std::vector<grid::Box> rows;
+  for (int k = 0; k < cells.z; ++k)
+    for (int j = 0; j < cells.y; ++j) {
+      const std::size_t r = j + static_cast<std::size_t>(cells.y) * k;
+      if (lo[r] < hi[r]) rows.push_back({{lo[r], j, k}, {hi[r], j + 1, k + 1}});
+    }
+  return rows;
+}
+
 /// \brief Spread scale * a_value(i) at a_at(i) for every owned and ghost particle into this
 /// rank's owned cells of `field` (added to what is there), in the fixed order described above.
 template <class Transfer>

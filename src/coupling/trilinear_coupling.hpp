@@ -64,6 +64,11 @@ class TrilinearCoupling {
           s.w[a][b][c] = (a ? f[0] : 1 - f[0]) * (b ? f[1] : 1 - f[1]) * (c ? f[2] : 1 - f[2]);
     return s;
   }
+  /// \brief Local cells [lo, hi) that interpolate_at(field, p) reads (the 2x2x2 stencil).
+  grid::Box stencil_box(const Vec3& p) const {
+    const Stencil s = stencil(p);
+    return {{s.i, s.j, s.k}, {s.i + 2, s.j + 2, s.k + 2}};
+  }
   /// \brief Interpolate components 0..2 of `field` (ghosts must be current).
   static Vec3 interpolate(const grid::Field<Real>& field, const Stencil& s) {
     // Out of the block: an owned particle drifted more than (ghosts - 1/2) cells out of its

@@ -222,7 +222,8 @@ void SeaweedScenario::step() {
   for (int k = 0; k < lbm_substeps_; ++k) lbm_->step(false);
   {
     auto scope = ctx_.timers.scope("lbm_macroscopic");  // listed apart from the LBM's own timers
-    lbm_->update_macroscopic();
+    const std::vector<grid::Box> sampled = sampled_velocity_cells();
+    lbm_->update_macroscopic(sampled);
   }
   ctx_.timers.add("lbm", lbm_->time_collide() + lbm_->time_halo() + lbm_->time_boundary() -
                              t_lbm_[0] - t_lbm_[1] - t_lbm_[2]);
@@ -233,6 +234,29 @@ void SeaweedScenario::step() {
     auto scope = ctx_.timers.scope("clusters");
     record_metrics();
   }
+}
+
+std::vector<grid::Box> SeaweedScenario::sampled_velocity_cells() const {
+  // The next step samples the velocity only at its owned spheres, which are where this step left
+  // them: the owned ones (their stencils' cells, row by row) and those migrating in from a
+  // neighbour, whose stencils read this rank's cells only through that neighbour's ghost layer,
+  // i.e. the face layers kept below (a migration moves no sphere). Every other cell may keep an
+  // older value; output and restarts recompute all cells.
+  const core::Index3 n = decomp_->local_cells();
+  std::vector<grid::Box> cells =
+      coupling::sampled_cell_rows(*coupling_, bodies_->set(), particles::ParticleSet::kPos, n);
+  const int g = lbm_->velocity().ghosts();
+  for (int d = 0; d < 3; ++d)
+    for (int side = 0; side < 2; ++side) {
+      if (decomp_->neighbor(d, side) == MPI_PROC_NULL) continue;
+      grid::Box layer{{0, 0, 0}, n};
+      if (side == 0)
+        layer.hi[d] = g;
+      else
+        layer.lo[d] = n[d] - g;
+      cells.push_back(layer);
+    }
+  return cells;
 }
 
 void SeaweedScenario::write_output() {

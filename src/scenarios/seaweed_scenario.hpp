@@ -52,6 +52,9 @@ class SeaweedScenario : public Scenario {
   void check_spheres_finite();
   void check_particle_halo(const models::plants::MechanicsParams& mpar, double dx);
   long long last_broken_total();
+  /// \brief Owned cells whose velocity the next step's sampling reads (directly or as a
+  /// neighbour's ghosts): local boxes for LbmSolver::update_macroscopic.
+  std::vector<grid::Box> sampled_velocity_cells() const;
 
   RunContext ctx_;
   io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the LBM fields

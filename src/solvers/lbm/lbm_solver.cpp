@@ -61,14 +61,13 @@ SweepFn pick1(bool trt, ForceMode f, bool from_post, bool macro, bool solids) {
 // so that the row loop vectorises; same operations in the same order as the scalar loop it
 // replaced.
 template <class L>
-void macroscopic_fields(const grid::Field<Real>& layout, const double* const* post,
-                        const std::uint8_t* solid, const double* const* force, const double* gl,
-                        double* const* out) {
-  const Index3 n = layout.cells();
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j) {
-      const std::ptrdiff_t row = layout.index(0, j, k);
-      for (std::ptrdiff_t c = row; c < row + n.x; ++c) {
+void macroscopic_fields(const grid::Field<Real>& layout, const grid::Box& cells,
+                        const double* const* post, const std::uint8_t* solid,
+                        const double* const* force, const double* gl, double* const* out) {
+  for (int k = cells.lo.z; k < cells.hi.z; ++k)
+    for (int j = cells.lo.y; j < cells.hi.y; ++j) {
+      const std::ptrdiff_t row = layout.index(cells.lo.x, j, k);
+      for (std::ptrdiff_t c = row; c < row + (cells.hi.x - cells.lo.x); ++c) {
         double m = 0, jx = 0, jy = 0, jz = 0;
         const bool s = solid[c];
 #pragma GCC unroll 32
@@ -184,6 +183,11 @@ grid::Field<Real> LbmSolver::natural_populations() const {
 }
 
 void LbmSolver::update_macroscopic() {
+  const grid::Box all{{0, 0, 0}, decomp_.local_cells()};
+  update_macroscopic(std::span<const grid::Box>(&all, 1));
+}
+
+void LbmSolver::update_macroscopic(std::span<const grid::Box> regions) {
   const double* post[32];
   post_view(post);
   const Vec3& g = params_.body_force;
@@ -193,10 +197,16 @@ void LbmSolver::update_macroscopic() {
   if (use_force_field_)
     for (int a = 0; a < 3; ++a) force[a] = force_.component(a);
   double* out[4] = {rho_.component(0), u_.component(0), u_.component(1), u_.component(2)};
-  if (params_.lattice == "D3Q15")
-    macroscopic_fields<D3Q15>(f_, post, solid_.data(), force, gl, out);
-  else
-    macroscopic_fields<D3Q19>(f_, post, solid_.data(), force, gl, out);
+  const Index3 n = decomp_.local_cells();
+  for (const grid::Box& r : regions) {
+    const grid::Box cells{{std::max(r.lo.x, 0), std::max(r.lo.y, 0), std::max(r.lo.z, 0)},
+                          {std::min(r.hi.x, n.x), std::min(r.hi.y, n.y), std::min(r.hi.z, n.z)}};
+    if (cells.lo.x >= cells.hi.x || cells.lo.y >= cells.hi.y || cells.lo.z >= cells.hi.z) continue;
+    if (params_.lattice == "D3Q15")
+      macroscopic_fields<D3Q15>(f_, cells, post, solid_.data(), force, gl, out);
+    else
+      macroscopic_fields<D3Q19>(f_, cells, post, solid_.data(), force, gl, out);
+  }
   halo_u_->exchange();
 }
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,10 @@ class LbmSolver {
   const grid::Field<Real>& velocity() const { return u_; }
   /// \brief Recompute density and velocity from the populations (e.g. after initialize/restart).
   void update_macroscopic();
+  /// \brief The same for the owned cells inside `regions` only (boxes of local cell indices,
+  /// clipped to the owned block, may overlap), then the ghost refresh. Cells outside keep the
+  /// values of an earlier update: for callers that read the fields only where they say.
+  void update_macroscopic(std::span<const grid::Box> regions);
   /// \brief Mark solid cells (`is_solid_global` of a global, wrapped cell index) on owned and
   /// ghost cells and rebuild the bounce-back links. Local: no communication.
   void set_solid(const std::function<bool(const Index3&)>& is_solid_global);

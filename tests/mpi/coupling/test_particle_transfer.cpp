@@ -218,6 +218,39 @@ TEST_P(Transfer, StaggeredInterpolationExactForLinearFaceFields) {
   EXPECT_LT(worst, 1e-13);
 }
 
+// sampled_cell_rows lists every owned cell an owned particle's interpolation reads: with all other
+// owned cells NaN (the ghosts finite), every owned particle still interpolates a finite value.
+TEST_P(Transfer, SampledCellRowsCoverTheInterpolation) {
+  const auto periodic = GetParam();
+  grid::Decomposition dec(MPI_COMM_WORLD, kCells, periodic);
+  particles::ParticleComm pc(dec, kDx);
+  coupling::TrilinearCoupling t(dec, kDx);
+  Handles h{};
+  ParticleSet s(layout(h));
+  fill(s, h, pc, periodic, t.reach() + kDx);
+  const auto n = dec.local_cells();
+  const auto rows = coupling::sampled_cell_rows(t, s, ParticleSet::kPos, n);
+  grid::Field<double> u(n, 3, 1, 1.0);
+  grid::Field<std::uint8_t> listed(n, 1, 0, 0);
+  for (const auto& r : rows) {
+    ASSERT_EQ(r.extent().y, 1);
+    ASSERT_EQ(r.extent().z, 1);
+    for (int i = r.lo.x; i < r.hi.x; ++i) listed(i, r.lo.y, r.lo.z) = 1;
+  }
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i)
+          if (!listed(i, j, k)) u(i, j, k, c) = std::nan("");
+  std::size_t not_finite = 0;
+  for (std::size_t i = 0; i < s.n_owned(); ++i) {
+    const Vec3 v = t.interpolate_at(u, s.pos(i));
+    not_finite += !(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
+  }
+  EXPECT_EQ(not_finite, 0u);
+  EXPECT_EQ(rows.empty(), s.n_owned() == 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Boundaries, Transfer,
                          ::testing::Values(std::array<bool, 3>{false, false, false},
                                            std::array<bool, 3>{true, true, true},
