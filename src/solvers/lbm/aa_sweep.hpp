@@ -29,12 +29,18 @@ struct AaSweepArgs {
   const std::uint8_t* solid;
   double uniform_force[3];
   Relaxation relax;
+  /// With a force field: row r = j + ny k carries a force only in cells [force_lo[r], force_hi[r])
+  /// (all others hold +0 in every component); null: everywhere.
+  const int* force_lo = nullptr;
+  const int* force_hi = nullptr;
   /// Rows swept: y in [j_begin, j_end), z in [k_begin, k_end), all of x. Cells are independent
   /// (each writes exactly the locations it read), so any split of the rows gives the same bits.
   int j_begin = 0, j_end = 0, k_begin = 0, k_end = 0;
 };
 
 /// \brief One in-place step over the owned cells; `kFromPost` selects the neighbour step.
+/// With a force field, the cells of a row outside its force span skip the three force loads:
+/// their force is uniform + (+0), the same bits as the loads would give.
 template <class L, bool kTrt, ForceMode kForce, bool kMacro, bool kSolids, bool kFromPost>
 void aa_stream_collide(const AaSweepArgs& a) {
   constexpr int Q = L::Q;
@@ -55,49 +61,66 @@ void aa_stream_collide(const AaSweepArgs& a) {
   double* ux = kMacro ? a.u->component(0) : nullptr;
   double* uy = kMacro ? a.u->component(1) : nullptr;
   double* uz = kMacro ? a.u->component(2) : nullptr;
+  // kLoad: read the force field (kField only); otherwise a kField sweep adds +0 to the uniform
+  // part, as the loads of a zero force would.
+  auto cells = [&]<bool kLoad>(std::ptrdiff_t begin, std::ptrdiff_t end) {
+  // Each cell writes exactly the locations it read and no other cell touches them.
+#pragma GCC ivdep
+    for (std::ptrdiff_t c = begin; c < end; ++c) {
+      double f[Q], in[Q];
+#pragma GCC unroll 32
+      for (int q = 0; q < Q; ++q) in[q] = f[q] = rp[q][c];
+      double gx = 0, gy = 0, gz = 0;
+      if constexpr (kForce == ForceMode::kUniform) {
+        gx = a.uniform_force[0];
+        gy = a.uniform_force[1];
+        gz = a.uniform_force[2];
+      } else if constexpr (kForce == ForceMode::kField && kLoad) {
+        gx = a.uniform_force[0] + fx[c];
+        gy = a.uniform_force[1] + fy[c];
+        gz = a.uniform_force[2] + fz[c];
+      } else if constexpr (kForce == ForceMode::kField) {
+        gx = a.uniform_force[0] + 0.0;
+        gy = a.uniform_force[1] + 0.0;
+        gz = a.uniform_force[2] + 0.0;
+      }
+      double rho, vx, vy, vz;
+      collide<L, kTrt>(f, a.relax, gx, gy, gz, rho, vx, vy, vz);
+      if constexpr (kSolids) {
+        // Location of slot q written here held the streamed population opp(q) read above.
+        const bool s = a.solid[c];
+#pragma GCC unroll 32
+        for (int q = 0; q < Q; ++q) wp[q][c] = s ? in[L::opp[q]] : f[q];
+      } else {
+#pragma GCC unroll 32
+        for (int q = 0; q < Q; ++q) wp[q][c] = f[q];
+      }
+      if constexpr (kMacro) {
+        if constexpr (kSolids) {  // solid cells keep their macroscopic values
+          const bool s = a.solid[c];
+          rho = s ? rhop[c] : rho;
+          vx = s ? ux[c] : vx;
+          vy = s ? uy[c] : vy;
+          vz = s ? uz[c] : vz;
+        }
+        rhop[c] = rho;
+        ux[c] = vx;
+        uy[c] = vy;
+        uz[c] = vz;
+      }
+    }
+  };
   for (int k = a.k_begin; k < a.k_end; ++k)
     for (int j = a.j_begin; j < a.j_end; ++j) {
       const std::ptrdiff_t row = fld.index(0, j, k);
-      // Each cell writes exactly the locations it read and no other cell touches them.
-#pragma GCC ivdep
-      for (std::ptrdiff_t c = row; c < row + n.x; ++c) {
-        double f[Q], in[Q];
-#pragma GCC unroll 32
-        for (int q = 0; q < Q; ++q) in[q] = f[q] = rp[q][c];
-        double gx = 0, gy = 0, gz = 0;
-        if constexpr (kForce == ForceMode::kUniform) {
-          gx = a.uniform_force[0];
-          gy = a.uniform_force[1];
-          gz = a.uniform_force[2];
-        } else if constexpr (kForce == ForceMode::kField) {
-          gx = a.uniform_force[0] + fx[c];
-          gy = a.uniform_force[1] + fy[c];
-          gz = a.uniform_force[2] + fz[c];
-        }
-        double rho, vx, vy, vz;
-        collide<L, kTrt>(f, a.relax, gx, gy, gz, rho, vx, vy, vz);
-        if constexpr (kSolids) {
-          // Location of slot q written here held the streamed population opp(q) read above.
-          const bool s = a.solid[c];
-#pragma GCC unroll 32
-          for (int q = 0; q < Q; ++q) wp[q][c] = s ? in[L::opp[q]] : f[q];
-        } else {
-#pragma GCC unroll 32
-          for (int q = 0; q < Q; ++q) wp[q][c] = f[q];
-        }
-        if constexpr (kMacro) {
-          if constexpr (kSolids) {  // solid cells keep their macroscopic values
-            const bool s = a.solid[c];
-            rho = s ? rhop[c] : rho;
-            vx = s ? ux[c] : vx;
-            vy = s ? uy[c] : vy;
-            vz = s ? uz[c] : vz;
-          }
-          rhop[c] = rho;
-          ux[c] = vx;
-          uy[c] = vy;
-          uz[c] = vz;
-        }
+      if constexpr (kForce == ForceMode::kField) {
+        const std::size_t r = j + static_cast<std::size_t>(n.y) * k;
+        const int lo = a.force_lo ? a.force_lo[r] : 0, hi = a.force_lo ? a.force_hi[r] : n.x;
+        cells.template operator()<false>(row, row + lo);
+        cells.template operator()<true>(row + lo, row + hi);
+        cells.template operator()<false>(row + hi, row + n.x);
+      } else {
+        cells.template operator()<true>(row, row + n.x);
       }
     }
 }

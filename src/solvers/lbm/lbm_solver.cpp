@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -244,6 +245,11 @@ void LbmSolver::sweep(bool macro, int begin, int end) {
   if (end >= 0) (overlap_axis_ == 1 ? a.j_begin : a.k_begin) = begin;
   if (end >= 0) (overlap_axis_ == 1 ? a.j_end : a.k_end) = end;
   if (a.j_begin >= a.j_end || a.k_begin >= a.k_end) return;
+  if (use_force_field_) {
+    if (force_spans_stale_) update_force_spans();
+    a.force_lo = force_lo_.data();
+    a.force_hi = force_hi_.data();
+  }
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
@@ -252,6 +258,30 @@ void LbmSolver::sweep(bool macro, int begin, int end) {
                    ? pick1<D3Q15>(params_.trt, fm, from_post, macro, has_solids_)
                    : pick1<D3Q19>(params_.trt, fm, from_post, macro, has_solids_);
   fn(a);
+}
+
+void LbmSolver::update_force_spans() {
+  // A bit test, not `!= 0`: a -0 component must be loaded (uniform + (-0) and uniform + 0.0
+  // differ when the uniform part is -0).
+  const Index3 n = decomp_.local_cells();
+  force_lo_.assign(static_cast<std::size_t>(n.y) * n.z, n.x);
+  force_hi_.assign(force_lo_.size(), n.x);
+  const double* fc[3] = {force_.component(0), force_.component(1), force_.component(2)};
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j) {
+      const std::ptrdiff_t row = f_.index(0, j, k);
+      auto carries = [&](int i) {
+        return std::bit_cast<std::uint64_t>(fc[0][row + i]) != 0 ||
+               std::bit_cast<std::uint64_t>(fc[1][row + i]) != 0 ||
+               std::bit_cast<std::uint64_t>(fc[2][row + i]) != 0;
+      };
+      int lo = 0, hi = n.x;
+      while (lo < n.x && !carries(lo)) ++lo;
+      while (hi > lo && !carries(hi - 1)) --hi;
+      const std::size_t r = j + static_cast<std::size_t>(n.y) * k;
+      if (lo < hi) force_lo_[r] = lo, force_hi_[r] = hi;
+    }
+  force_spans_stale_ = false;
 }
 
 void LbmSolver::overlapped_neighbour_step(bool macro) {

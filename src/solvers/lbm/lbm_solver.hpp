@@ -109,7 +109,12 @@ class LbmSolver {
   void initialize(const std::function<void(const Index3&, double&, Vec3&)>& init);
   /// \brief Per-cell force density (3 components, lattice units, 1 ghost layer) applied by Guo
   /// forcing on top of the uniform body force once `enable_force_field()` was called.
-  grid::Field<Real>& force() { return force_; }
+  /// Every call marks the field changed (the sweep then re-derives which cells of each row carry a
+  /// force, once): write through a fresh call, not through a reference kept from an earlier step.
+  grid::Field<Real>& force() {
+    force_spans_stale_ = true;
+    return force_;
+  }
   void enable_force_field() { use_force_field_ = true; }
   /// \brief Macroscopic density / velocity (lattice units) as of the last step that stored them.
   const grid::Field<Real>& density() const { return rho_; }
@@ -198,6 +203,10 @@ class LbmSolver {
   bool streamed_ = false;               ///< f_ holds the streamed state (after a neighbour step)
   std::vector<std::uint8_t> solid_;
   bool has_solids_ = false, use_force_field_ = false;
+  /// Per owned row j + ny k: the cells [lo, hi) whose force field is not +0 in every component.
+  std::vector<int> force_lo_, force_hi_;
+  bool force_spans_stale_ = true;
+  void update_force_spans();
   std::unique_ptr<grid::HaloExchange> halo_, halo_u_;  ///< before a neighbour step; velocity
   std::unique_ptr<grid::GhostFold> fold_;              ///< after a neighbour step
   std::vector<Link> links_;
