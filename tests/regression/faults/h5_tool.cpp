@@ -2,10 +2,14 @@
 /// \brief Test helper for run_faults.py (no h5py on the test machines):
 ///   h5_tool set-int <file> <attribute> <value>   overwrite a root integer attribute
 ///   h5_tool same <a> <b> <dataset>               exit 0 if the double datasets are bitwise equal
+///   h5_tool same-rows <a> <b> <dataset>          the same for 2-D datasets taken as sets of rows
+///                                                (particle rows, whose order depends on the ranks)
 ///   h5_tool layout <file> <dataset>              print "chunked AxBxC filters shuffle,deflate" or
 ///                                                "contiguous filters none"
 #include <hdf5.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,7 +21,12 @@ namespace {
 std::vector<double> read_all(const char* file, const char* name, std::vector<hsize_t>& dims) {
   hid_t f = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) return {};
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a missing dataset is reported by the caller
   hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  if (d < 0) {
+    H5Fclose(f);
+    return {};
+  }
   hid_t s = H5Dget_space(d);
   dims.resize(H5Sget_simple_extent_ndims(s));
   H5Sget_simple_extent_dims(s, dims.data(), nullptr);
@@ -56,6 +65,27 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu of %zu values differ\n", argv[4], differ, a.size());
     return differ != 0;
   }
+  if (argc == 5 && std::string(argv[1]) == "same-rows") {
+    std::vector<hsize_t> da, db;
+    auto a = read_all(argv[2], argv[4], da), b = read_all(argv[3], argv[4], db);
+    if (a.empty() || da != db || da.size() != 2) {
+      std::printf("%s: missing, not 2-D or different shapes\n", argv[4]);
+      return 1;
+    }
+    // Rows as bit patterns, sorted: equal multisets of rows give equal sorted lists.
+    const std::size_t w = da[1];
+    auto rows = [w](const std::vector<double>& v) {
+      std::vector<std::vector<std::uint64_t>> r(v.size() / w, std::vector<std::uint64_t>(w));
+      for (std::size_t i = 0; i < v.size(); ++i) std::memcpy(&r[i / w][i % w], &v[i], 8);
+      std::sort(r.begin(), r.end());
+      return r;
+    };
+    const auto ra = rows(a), rb = rows(b);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < ra.size(); ++i) differ += ra[i] != rb[i];
+    std::printf("%s: %zu of %zu rows differ\n", argv[4], differ, ra.size());
+    return differ != 0;
+  }
   if (argc == 4 && std::string(argv[1]) == "layout") {
     hid_t f = H5Fopen(argv[2], H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) return 1;
@@ -87,7 +117,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::fprintf(stderr,
-               "usage: h5_tool set-int <file> <attr> <value> | same <a> <b> <dataset> | layout "
-               "<file> <dataset>\n");
+               "usage: h5_tool set-int <file> <attr> <value> | same|same-rows <a> <b> <dataset> | "
+               "layout <file> <dataset>\n");
   return 2;
 }
