@@ -163,10 +163,27 @@ void LbmSolver::build_plans() {
           plan.copies.push_back({dst, post(opp_[q], l.x)});
       }
     }
-    // Walk the targets in memory order (the links come cell by cell, 19 planes apart).
-    std::sort(plans_[streamed].copies.begin(), plans_[streamed].copies.end());
   }
-  std::sort(late_plan_.copies.begin(), late_plan_.copies.end());
+  for (BoundaryPlan* plan : {&plans_[0], &plans_[1], &late_plan_}) compress_copies(*plan);
+}
+
+void LbmSolver::compress_copies(BoundaryPlan& plan) {
+  // Walk the targets in memory order (the links come cell by cell, 19 planes apart), and join
+  // copies whose targets and sources advance by the same step into one run.
+  auto& c = plan.copies;
+  std::sort(c.begin(), c.end());
+  plan.runs.clear();
+  for (std::size_t i = 0; i < c.size();) {
+    BoundaryPlan::CopyRun r{c[i][0], c[i][1], 1, 1};
+    if (i + 1 < c.size() && c[i + 1][0] - c[i][0] == c[i + 1][1] - c[i][1])
+      r.stride = c[i + 1][0] - c[i][0];
+    while (i + r.count < c.size() && c[i + r.count][0] == r.dst + r.count * r.stride &&
+           c[i + r.count][1] == r.src + r.count * r.stride)
+      ++r.count;
+    plan.runs.push_back(r);
+    i += r.count;
+  }
+  c = {};  // only the runs are applied
 }
 
 void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
@@ -177,7 +194,13 @@ void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
   // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
   double* base = f_.component(0);
   // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
-  for (const auto& [dst, src] : plan.copies) base[dst] = base[src];
+  for (const auto& r : plan.runs) {
+    if (r.stride == 1)
+      for (std::int64_t k = 0; k < r.count; ++k) base[r.dst + k] = base[r.src + k];
+    else
+      for (std::int64_t k = 0; k < r.count; ++k)
+        base[r.dst + k * r.stride] = base[r.src + k * r.stride];
+  }
   // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
   for (std::size_t i = 0; i < plan.inlet.size(); ++i)
     base[plan.inlet[i][0]] = base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in;

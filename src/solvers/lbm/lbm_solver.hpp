@@ -170,7 +170,13 @@ class LbmSolver {
   /// written from src), grouped by kind so that each kind is one tight loop.
   struct BoundaryPlan {
     std::vector<std::array<std::int64_t, 2>> copies;  ///< wall, free slip, zero gradient
-    std::vector<std::array<std::int64_t, 2>> inlet;   ///< moving wall, + coef * u_in
+    /// The copies as runs: base[dst + k stride] = base[src + k stride], k < count (a face's links
+    /// of one direction are a plane of cells, so long unit-stride runs on the y and z faces).
+    struct CopyRun {
+      std::int64_t dst, src, stride, count;
+    };
+    std::vector<CopyRun> runs;
+    std::vector<std::array<std::int64_t, 2>> inlet;  ///< moving wall, + coef * u_in
     std::vector<double> inlet_coef;
     struct Pressure {
       std::int64_t dst, src, cell;  ///< src: the opposite population of cell
@@ -180,6 +186,7 @@ class LbmSolver {
   };
   void build_links();
   void build_plans();
+  static void compress_copies(BoundaryPlan& plan);
   void apply_boundaries(const BoundaryPlan& plan);
   /// \brief Sweep the owned cells; with `overlap_` only the rows [begin, end) along overlap_axis_.
   void sweep(bool macro, int begin = 0, int end = -1);
