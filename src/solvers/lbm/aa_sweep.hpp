@@ -63,8 +63,9 @@ void aa_stream_collide(const AaSweepArgs& a) {
   double* uz = kMacro ? a.u->component(2) : nullptr;
   // kLoad: read the force field (kField only); otherwise a kField sweep adds +0 to the uniform
   // part, as the loads of a zero force would.
-  auto cells = [&]<bool kLoad>(std::ptrdiff_t begin, std::ptrdiff_t end) {
-  // Each cell writes exactly the locations it read and no other cell touches them.
+  auto cells = [&]<bool kLoad>(std::ptrdiff_t begin, std::ptrdiff_t end)
+      __attribute__((always_inline)) {
+    // Each cell writes exactly the locations it read and no other cell touches them.
 #pragma GCC ivdep
     for (std::ptrdiff_t c = begin; c < end; ++c) {
       double f[Q], in[Q];
