@@ -219,7 +219,7 @@ void SeaweedScenario::step() {
   // The LBM velocity used for sampling is always the one update_macroscopic() computes from the
   // populations and this step's force field, so output steps and restarts (which call it too)
   // cannot change the trajectory.
-  for (int k = 0; k < lbm_substeps_; ++k) lbm_->step(false);
+  lbm_->advance(lbm_substeps_);
   {
     auto scope = ctx_.timers.scope("lbm_macroscopic");  // listed apart from the LBM's own timers
     const std::vector<grid::Box> sampled = sampled_velocity_cells();

@@ -165,6 +165,7 @@ void LbmSolver::build_plans() {
     }
   }
   for (BoundaryPlan* plan : {&plans_[0], &plans_[1], &late_plan_}) compress_copies(*plan);
+  build_fused_plans();
 }
 
 void LbmSolver::compress_copies(BoundaryPlan& plan) {
@@ -186,24 +187,25 @@ void LbmSolver::compress_copies(BoundaryPlan& plan) {
   c = {};  // only the runs are applied
 }
 
-void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
+template <class Store>
+void LbmSolver::visit_boundaries(const BoundaryPlan& plan, Store&& store) const {
   const double t = time();
   const double u_in = params_.inlet.face >= 0 ? units_.velocity_to_lattice(params_.inlet.speed) *
                                                     params_.inlet.time_factor(t)
                                               : 0.0;
   // Targets and sources never overlap (a target's writer is not a fluid cell), so order is free.
-  double* base = f_.component(0);
+  const double* base = f_.component(0);
   // Half-way bounce-back (walls, solids), specular reflection (free slip), zero gradient.
   for (const auto& r : plan.runs) {
     if (r.stride == 1)
-      for (std::int64_t k = 0; k < r.count; ++k) base[r.dst + k] = base[r.src + k];
+      for (std::int64_t k = 0; k < r.count; ++k) store(r.dst + k, base[r.src + k]);
     else
       for (std::int64_t k = 0; k < r.count; ++k)
-        base[r.dst + k * r.stride] = base[r.src + k * r.stride];
+        store(r.dst + k * r.stride, base[r.src + k * r.stride]);
   }
   // Moving-wall bounce-back with the inlet velocity (Ladd 1994).
   for (std::size_t i = 0; i < plan.inlet.size(); ++i)
-    base[plan.inlet[i][0]] = base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in;
+    store(plan.inlet[i][0], base[plan.inlet[i][1]] + plan.inlet_coef[i] * u_in);
   // Anti-bounce-back at rho = 1 (Ginzburg et al. 2008): only the even (quadratic) part of the
   // equilibrium enters, so the cell's velocity does not feed back linearly. (Plain equilibrium
   // with the cell's velocity grew round-off at outlet/wall corners into a blow-up after ~4e4
@@ -227,9 +229,19 @@ void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
     }
     const int q = l.q;
     const double cu = c_[q][0] * ux + c_[q][1] * uy + c_[q][2] * uz;
-    base[l.dst] =
-        -base[l.src] + 2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz));
+    store(l.dst,
+          -base[l.src] + 2.0 * w_[q] * (1.0 + 4.5 * cu * cu - 1.5 * (ux * ux + uy * uy + uz * uz)));
   }
+}
+
+void LbmSolver::apply_boundaries(const BoundaryPlan& plan) {
+  double* base = f_.component(0);
+  visit_boundaries(plan, [base](std::int64_t dst, double v) { base[dst] = v; });
+}
+
+void LbmSolver::stage_boundaries(const BoundaryPlan& plan,
+                                 std::vector<std::pair<std::int64_t, double>>& staged) const {
+  visit_boundaries(plan, [&staged](std::int64_t dst, double v) { staged.emplace_back(dst, v); });
 }
 
 }  // namespace biota::solvers::lbm

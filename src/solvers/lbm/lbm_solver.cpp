@@ -229,6 +229,14 @@ void LbmSolver::set_solid(const std::function<bool(const Index3&)>& is_solid) {
 }
 
 void LbmSolver::sweep(bool macro, int begin, int end) {
+  const Index3 n = decomp_.local_cells();
+  int j0 = 0, j1 = n.y, k0 = 0, k1 = n.z;
+  if (end >= 0) (overlap_axis_ == 1 ? j0 : k0) = begin;
+  if (end >= 0) (overlap_axis_ == 1 ? j1 : k1) = end;
+  sweep_rows(macro, !streamed_, j0, j1, k0, k1);
+}
+
+void LbmSolver::sweep_rows(bool macro, bool from_post, int j0, int j1, int k0, int k1) {
   const Vec3& bf = params_.body_force;
   AaSweepArgs a{
       &f_,
@@ -239,11 +247,7 @@ void LbmSolver::sweep(bool macro, int begin, int end) {
       {units_.force_density_to_lattice(bf.x), units_.force_density_to_lattice(bf.y),
        units_.force_density_to_lattice(bf.z)},
       params_.trt ? Relaxation::trt(units_.tau(), params_.magic) : Relaxation::bgk(units_.tau())};
-  const Index3 n = decomp_.local_cells();
-  a.j_end = n.y;
-  a.k_end = n.z;
-  if (end >= 0) (overlap_axis_ == 1 ? a.j_begin : a.k_begin) = begin;
-  if (end >= 0) (overlap_axis_ == 1 ? a.j_end : a.k_end) = end;
+  a.j_begin = j0, a.j_end = j1, a.k_begin = k0, a.k_end = k1;
   if (a.j_begin >= a.j_end || a.k_begin >= a.k_end) return;
   if (use_force_field_) {
     if (force_spans_stale_) update_force_spans();
@@ -253,7 +257,6 @@ void LbmSolver::sweep(bool macro, int begin, int end) {
   ForceMode fm = use_force_field_                        ? ForceMode::kField
                  : (bf.x != 0 || bf.y != 0 || bf.z != 0) ? ForceMode::kUniform
                                                          : ForceMode::kNone;
-  const bool from_post = !streamed_;
   SweepFn fn = params_.lattice == "D3Q15"
                    ? pick1<D3Q15>(params_.trt, fm, from_post, macro, has_solids_)
                    : pick1<D3Q19>(params_.trt, fm, from_post, macro, has_solids_);

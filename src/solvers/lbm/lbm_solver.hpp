@@ -15,6 +15,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/config.hpp"
@@ -102,6 +103,11 @@ class LbmSolver {
   /// \brief Advance one lattice time step. With `update_macroscopic` the density and velocity
   /// fields are stored during the sweep and their ghosts refreshed (needed for coupling/output).
   void step(bool update_macroscopic = true);
+  /// \brief `steps` steps without the macroscopic update. Pairs of a neighbour step and the local
+  /// step after it run fused plane by plane along z when the rank's x axis has no neighbour (the
+  /// local step of a plane runs as soon as the neighbour step has passed the plane after it, while
+  /// its populations are still in cache): the same bits as `steps` calls of step(false).
+  void advance(int steps);
   long long step_index() const { return step_; }
   double time() const { return step_ * units_.dt(); }
 
@@ -188,8 +194,28 @@ class LbmSolver {
   void build_plans();
   static void compress_copies(BoundaryPlan& plan);
   void apply_boundaries(const BoundaryPlan& plan);
+  /// \brief The values apply_boundaries() would write, appended as (target, value) pairs.
+  void stage_boundaries(const BoundaryPlan& plan,
+                        std::vector<std::pair<std::int64_t, double>>& staged) const;
+  /// \brief Every (target, value) of a plan's links, handed to `store` (targets never overlap
+  /// sources, so the order of the stores is free).
+  template <class Store>
+  void visit_boundaries(const BoundaryPlan& plan, Store&& store) const;
   /// \brief Sweep the owned cells; with `overlap_` only the rows [begin, end) along overlap_axis_.
   void sweep(bool macro, int begin = 0, int end = -1);
+  /// \brief Sweep rows y in [j0, j1), z in [k0, k1) as a neighbour (`from_post`) or local step.
+  void sweep_rows(bool macro, bool from_post, int j0, int j1, int k0, int k1);
+  /// \brief A neighbour step and the local step after it, fused along z (see advance()).
+  void fused_step_pair();
+  /// \brief The local-step links split for fused_step_pair() by the z plane of the cell they
+  /// feed, apart those feeding the first/last layer along an axis with neighbours (the ghost fold
+  /// writes there, so their values are staged and stored after it).
+  void build_fused_plans();
+  bool fused_ = false;
+  bool deferred_y_ = false, deferred_z_ = false;
+  std::vector<BoundaryPlan> local_plan_by_z_, local_plan_deferred_by_z_;
+  BoundaryPlan local_plan_after_fold_;
+  std::vector<std::pair<std::int64_t, double>> staged_;
   /// \brief A neighbour step with the halo exchange and the ghost fold in flight during parts of
   /// the interior sweep (see step()).
   void overlapped_neighbour_step(bool macro);

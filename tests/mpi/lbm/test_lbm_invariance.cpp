@@ -208,6 +208,41 @@ TEST_P(Invariance, ForceSpansSkipOnlyZeroForces) {
   EXPECT_GT(sums[1], 0) << "the force in the spans changed nothing";
 }
 
+// advance(n) fuses pairs of steps plane by plane: the same bits as n single steps, from either
+// parity, with the tank's walls, free slip, pulsed inlet, outlet, solids, body force and force
+// field.
+TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
+  const auto [lattice, trt] = GetParam();
+  const auto p = tank_like(lattice, trt);
+  auto run = [&](bool fused, int first, int n) {
+    grid::Decomposition d(MPI_COMM_WORLD, p.cells, p.periodic(), {1, 0, 0});
+    LbmSolver lbm(d, p);
+    setup(lbm);
+    for (int s = 0; s < first; ++s) lbm.step(false);
+    if (fused)
+      lbm.advance(n);
+    else
+      for (int s = 0; s < n; ++s) lbm.step(false);
+    lbm.update_macroscopic();
+    const auto c = d.local_cells();
+    std::vector<double> moments;
+    for (int k = 0; k < c.z; ++k)
+      for (int j = 0; j < c.y; ++j)
+        for (int i = 0; i < c.x; ++i) {
+          moments.push_back(lbm.density()(i, j, k));
+          for (int a = 0; a < 3; ++a) moments.push_back(lbm.velocity()(i, j, k, a));
+        }
+    return moments;
+  };
+  for (int first : {0, 1}) {
+    const auto single = run(false, first, 9), fused = run(true, first, 9);
+    long long differ = 0;
+    for (std::size_t c = 0; c < single.size(); ++c) differ += single[c] != fused[c];
+    MPI_Allreduce(MPI_IN_PLACE, &differ, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    EXPECT_EQ(differ, 0) << "moments differing after " << first << " + 9 steps";
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Lattices, Invariance,
                          ::testing::Values(std::make_pair("D3Q15", false),
                                            std::make_pair("D3Q19", true)));
