@@ -10,7 +10,6 @@
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
-#include "particles/cell_list.hpp"
 
 namespace biota::models::plants {
 
@@ -125,131 +124,14 @@ bool SeaweedBodies::local_displacement_exceeded() const {
   return m2 > 0.25 * p_.skin * p_.skin;
 }
 
-bool SeaweedBodies::filter_due() const {
-  // A contact dropped by the filter was at least r_i + r_j + inner_skin apart; while no sphere
-  // (owned or ghost: both are refreshed each sub-step and keep their slots between list builds)
-  // moved half the inner skin, it is still more than r_i + r_j apart and adds nothing. The
-  // (1 - 1e-6) keeps that margin ~1e-9 m, far above round-off. Rank-local: the filter changes no
-  // result, so ranks need not agree on when they filter.
-  if (need_filter_ || p_.inner_skin <= 0) return true;
-  const std::size_t nt = set_.n_total();
-  const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
-             *pz = set_.real(ParticleSet::kPos, 2);
-  const Real lim = 0.5 * p_.inner_skin * (1 - 1e-6), lim2 = lim * lim;
-  for (std::size_t k = 0; k < nt; ++k) {
-    const Real dx = px[k] - x_filter_[k].x, dy = py[k] - x_filter_[k].y,
-               dz = pz[k] - x_filter_[k].z;
-    if (dx * dx + dy * dy + dz * dz >= lim2) return true;
-  }
-  return false;
-}
-
 bool SeaweedBodies::max_displacement_exceeded() const {
   int flag = local_displacement_exceeded();
   MPI_Allreduce(MPI_IN_PLACE, &flag, 1, MPI_INT, MPI_MAX, comm_.decomposition().comm());
   return flag != 0;
 }
 
-void SeaweedBodies::rebuild_lists() {
-  comm_.build_ghosts(set_, ghost_cutoff());
-  ++rebuilds_;
-  need_filter_ = true;
-  const std::size_t no = set_.n_owned(), nt = set_.n_total();
-  x_build_.resize(no);
-  for (std::size_t i = 0; i < no; ++i) x_build_[i] = set_.pos(i);
-  // (id, slot) of every owned and ghost sphere sorted by id: find_near's lookup (one flat sort
-  // instead of a node-based hash map rebuilt each time).
-  slots_.resize(nt);
-  for (std::size_t i = 0; i < nt; ++i) slots_[i] = {set_.id(i), i};
-  std::sort(slots_.begin(), slots_.end());
-  // Every interaction touching an owned sphere is listed here, also when the other sphere is a
-  // ghost: both owners evaluate it with identical inputs and each adds it to its own sphere only,
-  // so nothing is scattered back and the sum on a sphere never depends on the decomposition.
-  // Pairs are oriented (lower id, higher id); the list covers pairs closer than the contact range
-  // plus the skin.
-  pairs_.clear();
-  const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
-  particles::CellList cl(set_.real(ParticleSet::kPos, 0), set_.real(ParticleSet::kPos, 1),
-                         set_.real(ParticleSet::kPos, 2), nt, contact_range);
-  const GlobalId* ids = set_.u64(ParticleSet::kId);
-  const std::uint64_t* parent = set_.u64(u_parent);
-  cl.for_each_pair([&](std::size_t i, std::size_t j, Real) {
-    if (i >= no && j >= no) return;
-    // Joined neighbours and siblings on one parent do not collide.
-    const GlobalId pi = parent[i], pj = parent[j];
-    if (pi == ids[j] || pj == ids[i] || (pi == pj && pi != kNoId)) return;
-    pairs_.emplace_back(ids[i] < ids[j] ? i : j, ids[i] < ids[j] ? j : i);
-  });
-  joints_.clear();
-  long long skipped = 0;
-  for (std::size_t c = 0; c < nt; ++c) {
-    const GlobalId pid = set_.u64(u_parent)[c];
-    if (pid == kNoId) continue;
-    const std::size_t p = find_near(pid, set_.pos(c));
-    // Partner out of range: expected for a ghost child (its owner evaluates the joint); for an
-    // owned child the joint is lost for this list's lifetime -- counted, reported in metrics.
-    if (p == SIZE_MAX) {
-      skipped += c < no ? 1 : 0;
-      continue;
-    }
-    if (c < no || p < no) joints_.emplace_back(c, p);
-  }
-  skipped_joints_ = skipped;
-  // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
-  // Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
-  adj_begin_.assign(no + 1, 0);
-  for (const auto& [c, p] : joints_) {
-    if (c < no) ++adj_begin_[c + 1];
-    if (p < no) ++adj_begin_[p + 1];
-  }
-  for (const auto& [i, j] : pairs_) {
-    if (i < no) ++adj_begin_[i + 1];
-    if (j < no) ++adj_begin_[j + 1];
-  }
-  for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
-  entries_.resize(adj_begin_[no]);
-  std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
-  const auto key = [&](std::size_t partner, std::uint64_t kind) {
-    return ids[partner] << 2 | kind;
-  };
-  for (std::size_t m = 0; m < joints_.size(); ++m) {
-    const auto [c, p] = joints_[m];
-    if (c < no) entries_[fill[c]++] = {key(p, 0), static_cast<std::uint32_t>(m), 0};
-    if (p < no) entries_[fill[p]++] = {key(c, 1), static_cast<std::uint32_t>(m), 1};
-  }
-  for (std::size_t m = 0; m < pairs_.size(); ++m) {
-    const auto [i, j] = pairs_[m];
-    // A contact entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
-    if (i < no) entries_[fill[i]++] = {key(j, 2), static_cast<std::uint32_t>(j), 0};
-    if (j < no) entries_[fill[j]++] = {key(i, 2), static_cast<std::uint32_t>(i), 1};
-  }
-  // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
-  // joint m's result on that side's sphere among all joint entries.
-  slot_.assign(2 * joints_.size(), kNoSlot);
-  std::uint32_t nslots = 0;
-  for (std::size_t i = 0; i < no; ++i) {
-    const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
-    std::sort(b, e, [](const Entry& x, const Entry& y) { return x.key < y.key; });
-    for (auto it = b; it != e; ++it)
-      if (it->kind() != 2) slot_[2 * it->index + it->side] = nslots++;
-  }
-  contrib_.resize(nslots);
-}
-
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
   for (std::size_t i = 0; i < set_.n_owned(); ++i) set_.set_vec3(a_uf, i, u(set_.pos(i)));
-}
-
-std::size_t SeaweedBodies::find_near(GlobalId id, const Vec3& near) const {
-  auto it = std::lower_bound(slots_.begin(), slots_.end(), std::pair<GlobalId, std::size_t>{id, 0});
-  std::size_t best = SIZE_MAX;
-  Real bd = 1e300;
-  for (; it != slots_.end() && it->first == id; ++it) {
-    const Vec3 d = set_.pos(it->second) - near;
-    const Real r2 = core::dot(d, d);
-    if (r2 < bd) bd = r2, best = it->second;
-  }
-  return best;
 }
 
 void SeaweedBodies::compute_forces(Real dt_sub) {
@@ -391,18 +273,13 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
     wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
   }
-  // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
-  // the entries that can still touch are copied, in order; otherwise only those are walked.
-  // Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
-  const bool filter = filter_due();
-  if (filter) {
-    ++filters_;
-    need_filter_ = false;
-    x_filter_.resize(nt);
-    for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
-    near_.clear();
-    near_begin_.assign(no + 1, 0);
-  }
+  // The inner list (see mark_refilter): a sphere marked for re-filtering walks its whole
+  // neighbour list and copies, in order, the entries that can still touch; the others walk only
+  // those. Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
+  mark_refilter();
+  std::uint8_t* const refilter = refilter_.data();
+  const Ref* const refs = refs_.data();
+  long long refiltered = 0;
   const Real s_in = p_.inner_skin;
   std::size_t jk = 0;  // next joint result (dense, in summation order)
   for (std::size_t i = 0; i < no; ++i) {
@@ -434,27 +311,32 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       t = t + out[jk].t;
       ++jk;
     };
-    if (filter) {
+    if (refilter[i]) {
+      refilter[i] = 0;
+      ++refiltered;
+      const Ref ri = refs[i];
+      Near* kept = near_.data() + adj_begin_[i];
       for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
         if (e.kind() == 2) {
-          const Hot& hj = hot[e.index];
-          const Vec3 d = hot[i].x - hj.x;
-          const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
+          const Ref& rj = refs[e.index];
+          const Vec3 d = ri.x - rj.x;
+          const Real rr = ri.r + rj.r, reach = rr + s_in, d2 = core::dot(d, d);
           if (d2 >= reach * reach) {
-            // Not listed. With inner_skin > 0 it fails contact()'s first test, which is this
-            // very d2 (the pair's d up to an exact sign) against the same bound: skipped here.
+            // Not listed. With inner_skin > 0 the pair is more than r_i + r_j apart now and
+            // fails contact()'s first test; with inner_skin <= 0 the references are the current
+            // positions and this is that very test (the pair's d up to an exact sign).
             if (d2 > rr * rr * (1 + 1e-9)) continue;
-            interact(e.kind(), e.side, e.index);
+            interact(e.kind(), e.side & 1u, e.index);
             continue;
           }
         }
-        near_.push_back({e.index, e.kind() | e.side << 2});
-        interact(e.kind(), e.side, e.index);
+        *kept++ = {e.index, e.kind() | (e.side & 1u) << 2};
+        interact(e.kind(), e.side & 1u, e.index);
       }
-      near_begin_[i + 1] = near_.size();
+      near_end_[i] = static_cast<std::size_t>(kept - near_.data());
     } else {
-      for (std::size_t k = near_begin_[i]; k < near_begin_[i + 1]; ++k) {
+      for (std::size_t k = adj_begin_[i]; k < near_end_[i]; ++k) {
         const Near e = near_[k];
         interact(e.tag & 3u, e.tag >> 2, e.index);
       }
@@ -462,6 +344,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
   }
+  if (refiltered > 0) ++filters_;
+  refiltered_ += refiltered;
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
   for (std::size_t i : broken_now_) {
     set_.u64(u_parent)[i] = kNoId;
