@@ -49,18 +49,6 @@ int ParticleComm::axis_coord(int d, Real v) const {
   return i < big ? i / (base + 1) : rem + (i - big) / base;
 }
 
-Real ParticleComm::wrap(int d, Real v) const {
-  if (!decomp_.periodic(d)) return v;
-  const Real L = ghi_[d] - glo_[d];
-  // Inside the box (nearly always): 0 < t < L makes t / L round into [0, 1), so the formula
-  // below gives v - L * (+0) = v exactly; skip its division.
-  const Real t = v - glo_[d];
-  if (t > 0 && t < L && v < ghi_[d]) return v;
-  Real w = v - L * std::floor((v - glo_[d]) / L);
-  if (w >= ghi_[d]) w = glo_[d];  // round-off at the top edge
-  return w;
-}
-
 int ParticleComm::owner_of(const Vec3& p) const {
   int c[3];
   for (int d = 0; d < 3; ++d) c[d] = axis_coord(d, wrap(d, p[d]));

@@ -13,6 +13,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "core/comm_counter.hpp"
@@ -79,5 +80,18 @@ class ParticleComm {
   bool have_plan_ = false;
   core::CommCounter sent_;
 };
+
+// Inline: migrate() calls it per particle and axis (a call cost as much as the test).
+inline Real ParticleComm::wrap(int d, Real v) const {
+  if (!decomp_.periodic(d)) return v;
+  const Real L = ghi_[d] - glo_[d];
+  // Inside the box (nearly always): 0 < t < L makes t / L round into [0, 1), so the formula
+  // below gives v - L * (+0) = v exactly; skip its division.
+  const Real t = v - glo_[d];
+  if (t > 0 && t < L && v < ghi_[d]) return v;
+  Real w = v - L * std::floor((v - glo_[d]) / L);
+  if (w >= ghi_[d]) w = glo_[d];  // round-off at the top edge
+  return w;
+}
 
 }  // namespace biota::particles
