@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace biota::scenarios {
 
@@ -10,18 +11,20 @@ using core::Vec3;
 
 namespace {
 
-/// \brief Copy the candidates k in [first, last) that are eligible and whose squared distance to
-/// the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z, vx, vy, vz) to out, in
-/// order; returns their number. `size`: slots in the arrays (the AVX2 tail reads past `last` below
-/// it). The outputs need room for last - first + 8 entries. The box distance is rounded the way the
-/// per-boid r2 is (((ex² + ey²) + ez²), each e no larger than the boid's |d|): rounding is
-/// monotonic, so it never exceeds the r2 of any point in the box, and every candidate that a
-/// point of the box can perceive is kept.
+/// \brief Copy the candidates k in the slot ranges `rows` that are eligible and whose squared
+/// distance to the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z, vx, vy, vz)
+/// to out, in order; returns their number. `size`: slots in the arrays (the AVX2 tail reads past
+/// a row's end below it). The outputs need room for the rows' total + 8 entries. One call per bin
+/// (not per row): the broadcasts and the setup are paid once.
+/// The box distance is rounded the way the per-boid r2 is (((ex² + ey²) + ez²), each e no larger
+/// than the boid's |d|): rounding is monotonic, so it never exceeds the r2 of any point in the
+/// box, and every candidate that a point of the box can perceive is kept.
 std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligible,
-                          std::size_t first, std::size_t last, std::size_t size, const Vec3& lo,
-                          const Vec3& hi, double radius2, double* const out[6]) {
+                          const std::pair<std::size_t, std::size_t>* rows, std::size_t nrows,
+                          [[maybe_unused]] std::size_t size, const Vec3& lo, const Vec3& hi,
+                          double radius2, double* const out[6]) {
   const double *X = in[0], *Y = in[1], *Z = in[2];
-  std::size_t n = 0, k = first;
+  std::size_t n = 0;
 #if defined(__AVX512F__)
   const __m512d lx = _mm512_set1_pd(lo.x), ly = _mm512_set1_pd(lo.y), lz = _mm512_set1_pd(lo.z);
   const __m512d hx = _mm512_set1_pd(hi.x), hy = _mm512_set1_pd(hi.y), hz = _mm512_set1_pd(hi.z);
@@ -29,24 +32,27 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
   auto gap = [&](__m512d c, __m512d l, __m512d h) {
     return _mm512_max_pd(_mm512_max_pd(_mm512_sub_pd(l, c), _mm512_sub_pd(c, h)), zero);
   };
-  for (; k < last; k += 8) {
-    const __mmask8 tm = last - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (last - k)) - 1);
-    const __m512d cx = _mm512_maskz_loadu_pd(tm, X + k), cy = _mm512_maskz_loadu_pd(tm, Y + k),
-                  cz = _mm512_maskz_loadu_pd(tm, Z + k);
-    const __m512d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
-    const __m512d e2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(ex, ex), _mm512_mul_pd(ey, ey)),
-                                     _mm512_mul_pd(ez, ez));
-    const __mmask8 m = _mm512_cmp_pd_mask(e2, rr, _CMP_LT_OQ) &
-                       _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
-                                                   _mm512_set1_epi64(-1));
-    // Register compress, then a plain store (the compress-to-memory form is slow on AMD).
-    _mm512_storeu_pd(out[0] + n, _mm512_maskz_compress_pd(m, cx));
-    _mm512_storeu_pd(out[1] + n, _mm512_maskz_compress_pd(m, cy));
-    _mm512_storeu_pd(out[2] + n, _mm512_maskz_compress_pd(m, cz));
-    for (int c = 3; c < 6; ++c)
-      _mm512_storeu_pd(out[c] + n,
-                       _mm512_maskz_compress_pd(m, _mm512_maskz_loadu_pd(tm, in[c] + k)));
-    n += static_cast<std::size_t>(__builtin_popcount(m));
+  for (std::size_t r = 0; r < nrows; ++r) {
+    const std::size_t last = rows[r].second;
+    for (std::size_t k = rows[r].first; k < last; k += 8) {
+      const __mmask8 tm = last - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (last - k)) - 1);
+      const __m512d cx = _mm512_maskz_loadu_pd(tm, X + k), cy = _mm512_maskz_loadu_pd(tm, Y + k),
+                    cz = _mm512_maskz_loadu_pd(tm, Z + k);
+      const __m512d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
+      const __m512d e2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(ex, ex), _mm512_mul_pd(ey, ey)),
+                                       _mm512_mul_pd(ez, ez));
+      const __mmask8 m = _mm512_cmp_pd_mask(e2, rr, _CMP_LT_OQ) &
+                         _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
+                                                     _mm512_set1_epi64(-1));
+      // Register compress, then a plain store (the compress-to-memory form is slow on AMD).
+      _mm512_storeu_pd(out[0] + n, _mm512_maskz_compress_pd(m, cx));
+      _mm512_storeu_pd(out[1] + n, _mm512_maskz_compress_pd(m, cy));
+      _mm512_storeu_pd(out[2] + n, _mm512_maskz_compress_pd(m, cz));
+      for (int c = 3; c < 6; ++c)
+        _mm512_storeu_pd(out[c] + n,
+                         _mm512_maskz_compress_pd(m, _mm512_maskz_loadu_pd(tm, in[c] + k)));
+      n += static_cast<std::size_t>(__builtin_popcount(m));
+    }
   }
 #elif defined(__AVX2__)
   const __m256d lx = _mm256_set1_pd(lo.x), ly = _mm256_set1_pd(lo.y), lz = _mm256_set1_pd(lo.z);
@@ -56,6 +62,7 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
   auto gap = [&](__m256d c, __m256d l, __m256d h) {
     return _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(l, c), _mm256_sub_pd(c, h)), zero);
   };
+  std::size_t k = 0, last = 0;
   // Four slots from k on; in the tail (k + 4 > last) only the lanes below last are kept. The
   // tail reads the slots after the row (other bins' points: plain values, masked off) as long as
   // they exist (k + 4 <= size); only at the very end of the arrays does it take masked loads.
@@ -90,19 +97,21 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
     for (int c = 3; c < 6; ++c) _mm256_storeu_pd(out[c] + n, pack(load(in[c])));
     n += static_cast<std::size_t>(__builtin_popcount(bits));
   };
-  for (; k + 4 <= last; k += 4) group(false);
-  if (k < last) group(true);
-  return n;
-#endif
-#if !defined(__AVX512F__) && !defined(__AVX2__)
-  // Branch-free: write, then advance (the compiler keeps this scalar; cheap next to the mask).
-  for (; k < last; ++k) {
-    const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);
-    const double ey = std::max(std::max(lo.y - Y[k], Y[k] - hi.y), 0.0);
-    const double ez = std::max(std::max(lo.z - Z[k], Z[k] - hi.z), 0.0);
-    for (int c = 0; c < 6; ++c) out[c][n] = in[c][k];
-    n += (eligible[k] != 0) & (ex * ex + ey * ey + ez * ez < radius2);
+  for (std::size_t r = 0; r < nrows; ++r) {
+    k = rows[r].first, last = rows[r].second;
+    for (; k + 4 <= last; k += 4) group(false);
+    if (k < last) group(true);
   }
+#else
+  // Branch-free: write, then advance (the compiler keeps this scalar; cheap next to the mask).
+  for (std::size_t r = 0; r < nrows; ++r)
+    for (std::size_t k = rows[r].first; k < rows[r].second; ++k) {
+      const double ex = std::max(std::max(lo.x - X[k], X[k] - hi.x), 0.0);
+      const double ey = std::max(std::max(lo.y - Y[k], Y[k] - hi.y), 0.0);
+      const double ez = std::max(std::max(lo.z - Z[k], Z[k] - hi.z), 0.0);
+      for (int c = 0; c < 6; ++c) out[c][n] = in[c][k];
+      n += (eligible[k] != 0) & (ex * ex + ey * ey + ez * ez < radius2);
+    }
 #endif
   return n;
 }
@@ -119,14 +128,18 @@ void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t 
     lo = {std::min(lo.x, X[k]), std::min(lo.y, Y[k]), std::min(lo.z, Z[k])};
     hi = {std::max(hi.x, X[k]), std::max(hi.y, Y[k]), std::max(hi.z, Z[k])};
   }
-  n_ = 0;
+  // The bin's rows of candidate slots first (their total bounds the output), then one pass.
+  rows_.clear();
+  std::size_t total = 0;
   cells.for_each_near_block(lo, [&](std::size_t row_first, std::size_t row_last) {
-    if (c_[0].size() < n_ + (row_last - row_first) + 8)
-      for (auto& c : c_) c.resize(2 * (n_ + (row_last - row_first)) + 64);
-    double* const out[6] = {c_[0].data() + n_, c_[1].data() + n_, c_[2].data() + n_,
-                            c_[3].data() + n_, c_[4].data() + n_, c_[5].data() + n_};
-    n_ += keep_near_box(in, eligible, row_first, row_last, cells.size(), lo, hi, radius2, out);
+    rows_.emplace_back(row_first, row_last);
+    total += row_last - row_first;
   });
+  if (c_[0].size() < total + 8)
+    for (auto& c : c_) c.resize(2 * total + 64);
+  double* const out[6] = {c_[0].data(), c_[1].data(), c_[2].data(),
+                          c_[3].data(), c_[4].data(), c_[5].data()};
+  n_ = keep_near_box(in, eligible, rows_.data(), rows_.size(), cells.size(), lo, hi, radius2, out);
   if (acc_.size() < n_ + 8) acc_.resize(2 * n_ + 8), acc_r2_.resize(2 * n_ + 8);
 }
 
