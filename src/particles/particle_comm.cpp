@@ -79,8 +79,9 @@ void ParticleComm::migrate(ParticleSet& set) {
   for (int d = 0; d < 3; ++d) {
     if (!decomp_.periodic(d)) continue;
     Real* xd = x[d];
+    const Real lo = glo_[d], hi = ghi_[d];  // locals: the stores below cannot change them
     for (std::size_t i = 0, n = set.n_owned(); i < n; ++i) {
-      const Real v = xd[i], w = wrap(d, v);
+      const Real v = xd[i], w = wrap_coord(v, lo, hi);
       if (w == v) continue;
       xd[i] = w;
       for (int a : set.extra_positions()) set.real(a, d)[i] += w - v;
