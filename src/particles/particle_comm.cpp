@@ -49,18 +49,6 @@ int ParticleComm::axis_coord(int d, Real v) const {
   return i < big ? i / (base + 1) : rem + (i - big) / base;
 }
 
-Real ParticleComm::wrap(int d, Real v) const {
-  if (!decomp_.periodic(d)) return v;
-  const Real L = ghi_[d] - glo_[d];
-  // Inside the box (nearly always): 0 < t < L makes t / L round into [0, 1), so the formula
-  // below gives v - L * (+0) = v exactly; skip its division.
-  const Real t = v - glo_[d];
-  if (t > 0 && t < L && v < ghi_[d]) return v;
-  Real w = v - L * std::floor((v - glo_[d]) / L);
-  if (w >= ghi_[d]) w = glo_[d];  // round-off at the top edge
-  return w;
-}
-
 int ParticleComm::owner_of(const Vec3& p) const {
   int c[3];
   for (int d = 0; d < 3; ++d) c[d] = axis_coord(d, wrap(d, p[d]));
@@ -91,8 +79,9 @@ void ParticleComm::migrate(ParticleSet& set) {
   for (int d = 0; d < 3; ++d) {
     if (!decomp_.periodic(d)) continue;
     Real* xd = x[d];
+    const Real lo = glo_[d], hi = ghi_[d];  // locals: the stores below cannot change them
     for (std::size_t i = 0, n = set.n_owned(); i < n; ++i) {
-      const Real v = xd[i], w = wrap(d, v);
+      const Real v = xd[i], w = wrap_coord(v, lo, hi);
       if (w == v) continue;
       xd[i] = w;
       for (int a : set.extra_positions()) set.real(a, d)[i] += w - v;

@@ -13,6 +13,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "core/comm_counter.hpp"
@@ -63,6 +64,8 @@ class ParticleComm {
   // Rank coordinate along axis d of the physical coordinate v.
   int axis_coord(int d, Real v) const;
   Real wrap(int d, Real v) const;
+  // wrap() on a periodic axis with box [lo, hi) (static: callers keep the bounds in registers).
+  static Real wrap_coord(Real v, Real lo, Real hi);
   // Wrap particle i's position onto the periodic domain, moving its other position-valued
   // attributes by the same shift.
   void wrap_particle(ParticleSet& set, std::size_t i, Real* const x[3]) const;
@@ -79,5 +82,21 @@ class ParticleComm {
   bool have_plan_ = false;
   core::CommCounter sent_;
 };
+
+// Inline: migrate() calls it per particle and axis (a call cost as much as the test).
+inline Real ParticleComm::wrap_coord(Real v, Real lo, Real hi) {
+  const Real L = hi - lo;
+  // Inside the box (nearly always): 0 < t < L makes t / L round into [0, 1), so the formula
+  // below gives v - L * (+0) = v exactly; skip its division.
+  const Real t = v - lo;
+  if (t > 0 && t < L && v < hi) return v;
+  Real w = v - L * std::floor((v - lo) / L);
+  if (w >= hi) w = lo;  // round-off at the top edge
+  return w;
+}
+
+inline Real ParticleComm::wrap(int d, Real v) const {
+  return decomp_.periodic(d) ? wrap_coord(v, glo_[d], ghi_[d]) : v;
+}
 
 }  // namespace biota::particles

@@ -10,6 +10,7 @@
 /// the per-boid row walk, so the sums are bitwise the same (decomposition invariance holds).
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/types.hpp"
@@ -42,6 +43,7 @@ class BinNeighbours {
   std::vector<double> c_[6];        // candidates of the bin: x, y, z, vx, vy, vz (SoA), visit order
   std::vector<std::uint64_t> acc_;  // accepted candidates of one boid
   std::vector<double> acc_r2_;      // their squared distances
+  std::vector<std::pair<std::size_t, std::size_t>> rows_;  // slot ranges of the last gather
 };
 
 }  // namespace biota::scenarios

@@ -411,8 +411,15 @@ void FlockScenario::step() {
   {
     auto scope = ctx_.timers.scope("rules");
     const std::size_t no = set_->n_owned();
-    std::vector<Vec3> acc(no);
-    std::vector<char> launch(no, 0);
+    // Reused across steps: every flying boid that is not launched gets acc[i] below before it
+    // is read, so only the launch flags need clearing.
+    acc_.resize(no);
+    launch_.assign(no, 0);
+    Vec3* acc = acc_.data();
+    char* launch = launch_.data();
+    // fleeing() (a 64-bit modulo per prey) can only be true while some site's flee window is open.
+    const bool any_fleeing =
+        !flee_until_.empty() && *std::max_element(flee_until_.begin(), flee_until_.end()) > step_;
     const double R2 = radius_ * radius_;
     const double* X = cells_.x();
     const double* Y = cells_.y();
@@ -444,27 +451,32 @@ void FlockScenario::step() {
           continue;
         }
         const double dstar = dstar_of[i];
-        mf::NeighbourSums s;
-        if (align_mode_ == mf::AlignmentMode::kAverage) {
-          if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
-            bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
-                        eligible_.data(), R2);
-            gathered_end = bin_last;
+        // Initialised once, by the path taken (a default NeighbourSums overwritten by the
+        // result cost a 120-byte clear per boid).
+        const mf::NeighbourSums s = [&] {
+          if (align_mode_ == mf::AlignmentMode::kAverage) {
+            if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
+              bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
+                          eligible_.data(), R2);
+              gathered_end = bin_last;
+            }
+            return bin_.sums(x, v, R2, fov_cos_, dstar);
           }
-          s = bin_.sums(x, v, R2, fov_cos_, dstar);
-        } else {
+          mf::NeighbourSums near_sums;
           cells_.for_each_near(x, [&](std::size_t j) {
             const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
             const double r2 = core::dot(d, d);
             if (r2 >= R2 || !eligible_[j]) return;
             if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
-            mf::accumulate_neighbour(s, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
+            mf::accumulate_neighbour(near_sums, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
           });
-        }
+          return near_sums;
+        }();
         neighbour_sum_ += s.count;
         ++prey_updates_;
         // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
         Vec3 flee{};
+        const bool is_fleeing = any_fleeing && fleeing(id);
         if (step_ >= pred_start_step_ && !preds.empty()) {
           double best = std::numeric_limits<double>::infinity();
           Vec3 dp{};
@@ -472,21 +484,31 @@ void FlockScenario::step() {
             const Vec3 d = min_image(p.x - x);
             if (core::dot(d, d) < best) best = core::dot(d, d), dp = d;
           }
-          flee = fleeing(id) ? mf::flee(dp, std::numeric_limits<double>::infinity(), w_flee_boost_)
-                             : mf::flee(dp, flee_radius_, w_flee_);
+          flee = is_fleeing ? mf::flee(dp, std::numeric_limits<double>::infinity(), w_flee_boost_)
+                            : mf::flee(dp, flee_radius_, w_flee_);
         }
         const Vec3 rules[5] = {flee, mf::separation(s, w_sep_),
                                mf::soft_wall(x, lo_, hi_, wall_margin_, wall_weight_),
                                mf::alignment(s, v, w_ali_, align_mode_), mf::cohesion(s, w_coh_)};
-        const double amax = fleeing(id) ? std::max(a_max_, w_flee_boost_) : a_max_;
-        acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), heading_angle(id));
+        const double amax = is_fleeing ? std::max(a_max_, w_flee_boost_) : a_max_;
+        // heading_angle() is an out-of-line call; without noise it is 0 (and rotate_z skips it).
+        const double turn = noise_heading_ != 0 ? heading_angle(id) : 0.0;
+        acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), turn);
       }
     }
+    // Column pointers hoisted: the stores below would otherwise make the compiler reload them
+    // through set_ for every boid.
+    const core::GlobalId* own_ids = set_->u64(particles::ParticleSet::kId);
+    double* const pos[3] = {set_->real(particles::ParticleSet::kPos, 0),
+                            set_->real(particles::ParticleSet::kPos, 1),
+                            set_->real(particles::ParticleSet::kPos, 2)};
+    double* const vel[3] = {set_->real(a_vel_, 0), set_->real(a_vel_, 1), set_->real(a_vel_, 2)};
+    const double* vmax_of = set_->real(a_vmax_);
     for (std::size_t i = 0; i < no; ++i) {
-      const core::GlobalId id = set_->id(i);
+      const core::GlobalId id = own_ids[i];
       if (!flying(id)) continue;
-      Vec3 x = set_->pos(i), v = set_->vec3(a_vel_, i);
-      const double vmax = set_->real(a_vmax_)[i];
+      Vec3 x{pos[0][i], pos[1][i], pos[2][i]}, v{vel[0][i], vel[1][i], vel[2][i]};
+      const double vmax = vmax_of[i];
       if (launch[i]) {
         core::Rng r(seed_, id, 2, core::RngPurpose::kBoidInit);
         const Vec3 side{r.uniform(-0.3, 0.3), r.uniform(-0.3, 0.3), r.uniform(-0.3, 0.3)};
@@ -500,8 +522,8 @@ void FlockScenario::step() {
       } else {
         mf::integrate(x, v, acc[i], dt_, is_prey(id) ? v_min_ : 0.0, vmax);
       }
-      set_->set_pos(i, x);
-      set_->set_vec3(a_vel_, i, v);
+      pos[0][i] = x.x, pos[1][i] = x.y, pos[2][i] = x.z;
+      vel[0][i] = v.x, vel[1][i] = v.y, vel[2][i] = v.z;
     }
   }
   ++step_;

@@ -147,7 +147,9 @@ class FlockScenario : public Scenario {
   particles::OrderedCellList cells_;
   std::vector<double> svx_, svy_, svz_;
   std::vector<std::uint64_t> eligible_;
-  BinNeighbours bin_;  // candidates shared by the boids of one bin (kAverage)
+  BinNeighbours bin_;            // candidates shared by the boids of one bin (kAverage)
+  std::vector<core::Vec3> acc_;  // step(): accelerations of the owned boids (reused)
+  std::vector<char> launch_;     // step(): boids launched this step
   // Statistics.
   int stats_every_ = 1;
   double last_phi_ = 0;

@@ -272,9 +272,10 @@ inline std::size_t perceive_compact_r2_fixed(const Real* X, const Real* Y, const
   const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
   const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
   const __m512d cv = _mm512_set1_pd(c2 * v2);
-  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
-  for (std::size_t k = 0; k < n; k += 8) {
-    const __mmask8 tm = n - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (n - k)) - 1);
+  const __m512i eight = _mm512_set1_epi64(8);
+  __m512i idx = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);  // k + lane, carried across iterations
+  // One group of 8 candidates at k (lanes outside tm not loaded and not kept).
+  auto group = [&](std::size_t k, __mmask8 tm) {
     const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
     const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
     const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
@@ -283,45 +284,51 @@ inline std::size_t perceive_compact_r2_fixed(const Real* X, const Real* Y, const
     __mmask8 m =
         tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
     if constexpr (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
-    const __m512i idx = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(k)), lanes);
     _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
     _mm512_storeu_pd(out_r2 + cnt, _mm512_maskz_compress_pd(m, r2));
     cnt += static_cast<std::size_t>(__builtin_popcount(m));
-  }
+    idx = _mm512_add_epi64(idx, eight);
+  };
+  std::size_t k = 0;
+  for (; k + 8 <= n; k += 8) group(k, __mmask8(0xFF));
+  if (k < n) group(k, __mmask8((1u << (n - k)) - 1));
 #elif defined(__AVX2__)
   const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
   const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
   const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
   const __m256d cv = _mm256_set1_pd(c2 * v2);
-  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
-  for (std::size_t k = 0; k < n; k += 4) {
-    const std::size_t left = n - k;
-    // Full vectors: plain loads (maskload is slow on AMD); the tail: masked loads, same values.
-    const bool full = left >= 4;
-    const __m256i tm =
-        full ? _mm256_set1_epi64x(-1)
-             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
-    const __m256d dx =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm), px);
-    const __m256d dy =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm), py);
-    const __m256d dz =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm), pz);
+  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0), four = _mm256_set1_epi64x(4);
+  __m256i idx = lanes;  // k + lane, carried across iterations
+  // One group of 4 candidates with offsets (dx, dy, dz); in the tail, `valid` (the lanes inside
+  // n) is and-ed into the decision.
+  auto group = [&](__m256d dx, __m256d dy, __m256d dz, bool tail, __m256d valid) {
     const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                      _mm256_mul_pd(dz, dz));
-    __m256d m = _mm256_and_pd(
-        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ)),
-        _mm256_castsi256_pd(tm));
+    __m256d m =
+        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
+    if (tail) m = _mm256_and_pd(m, valid);
     if constexpr (!all_round)
       m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
     const int bits = _mm256_movemask_pd(m);
-    const __m256i idx = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(k)), lanes);
     const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
                         _mm256_permutevar8x32_epi32(idx, perm));
     _mm256_storeu_pd(out_r2 + cnt,
                      _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(r2), perm)));
     cnt += static_cast<std::size_t>(__builtin_popcount(bits));
+    idx = _mm256_add_epi64(idx, four);
+  };
+  std::size_t k = 0;
+  // Full vectors: plain loads and no lane mask (maskload is slow on AMD); the tail: masked loads
+  // of the same values through the same code.
+  for (; k + 4 <= n; k += 4)
+    group(_mm256_sub_pd(_mm256_loadu_pd(X + k), px), _mm256_sub_pd(_mm256_loadu_pd(Y + k), py),
+          _mm256_sub_pd(_mm256_loadu_pd(Z + k), pz), false, zero);
+  if (k < n) {
+    const __m256i tm = _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(n - k)), lanes);
+    group(_mm256_sub_pd(_mm256_maskload_pd(X + k, tm), px),
+          _mm256_sub_pd(_mm256_maskload_pd(Y + k, tm), py),
+          _mm256_sub_pd(_mm256_maskload_pd(Z + k, tm), pz), true, _mm256_castsi256_pd(tm));
   }
 #else
   for (std::size_t k = 0; k < n; ++k) {
@@ -418,8 +425,9 @@ inline Vec3 prioritized_sum(std::span<const Vec3> rules, Real a_max) {
   Vec3 sum{};
   Real used = 0;
   for (const Vec3& a : rules) {
-    const Real m = core::norm(a);
-    if (m == 0) continue;
+    const Real a2 = core::dot(a, a);
+    if (a2 == 0) continue;  // norm 0 exactly when a2 is (sqrt(+0) = +0): no square root
+    const Real m = std::sqrt(a2);
     if (used + m <= a_max) {
       sum += a;
       used += m;
