@@ -388,10 +388,10 @@ void SeaweedScenario::check_health() {
 }
 
 std::string SeaweedScenario::progress() {
-  std::string s = fmt::format(
-      "clusters {} largest {:.2f} contacts {} broken {} lists {} filters {} ({} spheres)",
-      last_.clusters, last_.largest_share, last_.contacts, last_.broken_joints, bodies_->rebuilds(),
-      bodies_->filters(), bodies_->refiltered());
+  std::string s =
+      fmt::format("clusters {} largest {:.2f} contacts {} broken {} lists {} filters {}",
+                  last_.clusters, last_.largest_share, last_.contacts, last_.broken_joints,
+                  bodies_->rebuilds(), bodies_->filters());
   // Joints whose partner was beyond the ghost cutoff at the last list build (normally none).
   if (last_.skipped_joints > 0) s += fmt::format(" SKIPPED-JOINTS {}", last_.skipped_joints);
   return s;

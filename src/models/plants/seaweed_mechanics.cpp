@@ -125,43 +125,23 @@ bool SeaweedBodies::local_displacement_exceeded() const {
   return m2 > 0.25 * p_.skin * p_.skin;
 }
 
-void SeaweedBodies::mark_refilter() {
-  // A contact dropped by the filter had reference positions at least r_i + r_j + inner_skin
-  // apart; while neither sphere (owned or ghost: both are refreshed each sub-step and keep their
-  // slots between list builds) is half the inner skin from its reference, it is still more than
-  // r_i + r_j apart and adds nothing. The (1 - 1e-6) keeps that margin ~1e-9 m, far above
-  // round-off. A sphere that moved that far gets its current position as reference, and the
-  // segments of all owned spheres listing a contact with it (and its own) are filtered again.
-  // Rank-local: the filter changes no result, so ranks need not agree on when they filter.
-  const std::size_t no = set_.n_owned(), nt = set_.n_total();
+bool SeaweedBodies::filter_due() const {
+  // A contact dropped by the filter was at least r_i + r_j + inner_skin apart; while no sphere
+  // (owned or ghost: both are refreshed each sub-step and keep their slots between list builds)
+  // moved half the inner skin, it is still more than r_i + r_j apart and adds nothing. The
+  // (1 - 1e-6) keeps that margin ~1e-9 m, far above round-off. Rank-local: the filter changes no
+  // result, so ranks need not agree on when they filter.
+  if (need_filter_ || p_.inner_skin <= 0) return true;
+  const std::size_t nt = set_.n_total();
   const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
              *pz = set_.real(ParticleSet::kPos, 2);
-  if (need_filter_ || p_.inner_skin <= 0) {
-    // After a list build (which made the inner list from the same positions) only the references
-    // are set; with inner_skin <= 0 every sub-step filters every sphere.
-    need_filter_ = false;
-    const Real* rad = set_.real(a_radius);
-    refs_.resize(nt);
-    for (std::size_t k = 0; k < nt; ++k) refs_[k] = {{px[k], py[k], pz[k]}, rad[k]};
-    refilter_.assign(no, p_.inner_skin <= 0 ? 1 : 0);
-    return;
-  }
   const Real lim = 0.5 * p_.inner_skin * (1 - 1e-6), lim2 = lim * lim;
-  std::uint8_t* mark = refilter_.data();
   for (std::size_t k = 0; k < nt; ++k) {
-    Vec3& ref = refs_[k].x;
-    const Real dx = px[k] - ref.x, dy = py[k] - ref.y, dz = pz[k] - ref.z;
-    if (dx * dx + dy * dy + dz * dz < lim2) continue;
-    ref = {px[k], py[k], pz[k]};
-    if (k < no) {  // itself and its owned contact partners
-      mark[k] = 1;
-      for (std::size_t e = adj_begin_[k]; e < adj_begin_[k + 1]; ++e)
-        if (entries_[e].kind() == 2 && entries_[e].index < no) mark[entries_[e].index] = 1;
-    } else {
-      for (std::size_t t = touch_begin_[k - no]; t < touch_begin_[k - no + 1]; ++t)
-        mark[touch_[t]] = 1;
-    }
+    const Real dx = px[k] - x_filter_[k].x, dy = py[k] - x_filter_[k].y,
+               dz = pz[k] - x_filter_[k].z;
+    if (dx * dx + dy * dy + dz * dz >= lim2) return true;
   }
+  return false;
 }
 
 bool SeaweedBodies::max_displacement_exceeded() const {
@@ -193,21 +173,12 @@ void SeaweedBodies::rebuild_lists() {
                          set_.real(ParticleSet::kPos, 2), nt, contact_range);
   const GlobalId* ids = set_.u64(ParticleSet::kId);
   const std::uint64_t* parent = set_.u64(u_parent);
-  // The pairs closer than twice the largest radius plus the inner skin are also flagged for the
-  // first inner list (see mark_refilter; the positions now are the filter's references). With
-  // equal radii that is the filter's own bound, else a superset of it.
-  const Real* rad = set_.real(a_radius);
-  Real rmax = 0;
-  for (std::size_t k = 0; k < nt; ++k) rmax = std::max(rmax, rad[k]);
-  const Real reach = 2 * rmax + p_.inner_skin, reach2 = reach * reach;
-  pair_near_.clear();
-  cl.for_each_pair([&](std::size_t i, std::size_t j, Real r2) {
+  cl.for_each_pair([&](std::size_t i, std::size_t j, Real) {
     if (i >= no && j >= no) return;
     // Joined neighbours and siblings on one parent do not collide.
     const GlobalId pi = parent[i], pj = parent[j];
     if (pi == ids[j] || pj == ids[i] || (pi == pj && pi != kNoId)) return;
     pairs_.emplace_back(ids[i] < ids[j] ? i : j, ids[i] < ids[j] ? j : i);
-    pair_near_.push_back(r2 < reach2);
   });
   joints_.clear();
   long long skipped = 0;
@@ -231,18 +202,11 @@ void SeaweedBodies::rebuild_lists() {
     if (c < no) ++adj_begin_[c + 1];
     if (p < no) ++adj_begin_[p + 1];
   }
-  // Per ghost g (slot no + g), the owned spheres listing a contact with it (a pair has at least one
-  // owned sphere), for the re-filter (see mark_refilter; an owned sphere's segment lists them).
-  const std::size_t ng = nt - no;
-  touch_begin_.assign(ng + 1, 0);
   for (const auto& [i, j] : pairs_) {
-    ++(i < no ? adj_begin_[i + 1] : touch_begin_[i - no + 1]);
-    ++(j < no ? adj_begin_[j + 1] : touch_begin_[j - no + 1]);
+    if (i < no) ++adj_begin_[i + 1];
+    if (j < no) ++adj_begin_[j + 1];
   }
   for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
-  for (std::size_t g = 0; g < ng; ++g) touch_begin_[g + 1] += touch_begin_[g];
-  touch_.resize(touch_begin_[ng]);
-  std::vector<std::size_t> touch_fill(touch_begin_.begin(), touch_begin_.end() - 1);
   entries_.resize(adj_begin_[no]);
   std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
   const auto key = [&](std::size_t partner, std::uint64_t kind) {
@@ -256,33 +220,18 @@ void SeaweedBodies::rebuild_lists() {
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
     // A contact entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
-    const std::uint32_t near = pair_near_[m] ? Entry::kNear : 0;
-    if (i < no)
-      entries_[fill[i]++] = {key(j, 2), static_cast<std::uint32_t>(j), 0 | near};
-    else
-      touch_[touch_fill[i - no]++] = static_cast<std::uint32_t>(j);
-    if (j < no)
-      entries_[fill[j]++] = {key(i, 2), static_cast<std::uint32_t>(i), 1 | near};
-    else
-      touch_[touch_fill[j - no]++] = static_cast<std::uint32_t>(i);
+    if (i < no) entries_[fill[i]++] = {key(j, 2), static_cast<std::uint32_t>(j), 0};
+    if (j < no) entries_[fill[j]++] = {key(i, 2), static_cast<std::uint32_t>(i), 1};
   }
   // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
   // joint m's result on that side's sphere among all joint entries.
-  // The first inner list (every joint and the flagged contacts) is copied in the same pass.
   slot_.assign(2 * joints_.size(), kNoSlot);
-  near_.resize(entries_.size());
-  near_end_.resize(no);
   std::uint32_t nslots = 0;
   for (std::size_t i = 0; i < no; ++i) {
     const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
     std::sort(b, e, [](const Entry& x, const Entry& y) { return x.key < y.key; });
-    Near* kept = near_.data() + adj_begin_[i];
-    for (auto it = b; it != e; ++it) {
-      const std::uint32_t kind = it->kind(), side = it->side & 1u;
-      if (kind != 2) slot_[2 * it->index + side] = nslots++;
-      if (kind != 2 || it->side & Entry::kNear) *kept++ = {it->index, kind | side << 2};
-    }
-    near_end_[i] = static_cast<std::size_t>(kept - near_.data());
+    for (auto it = b; it != e; ++it)
+      if (it->kind() != 2) slot_[2 * it->index + it->side] = nslots++;
   }
   contrib_.resize(nslots);
 }
@@ -442,13 +391,18 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
     wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
   }
-  // The inner list (see mark_refilter): a sphere marked for re-filtering walks its whole
-  // neighbour list and copies, in order, the entries that can still touch; the others walk only
-  // those. Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
-  mark_refilter();
-  std::uint8_t* const refilter = refilter_.data();
-  const Ref* const refs = refs_.data();
-  long long refiltered = 0;
+  // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
+  // the entries that can still touch are copied, in order; otherwise only those are walked.
+  // Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
+  const bool filter = filter_due();
+  if (filter) {
+    ++filters_;
+    need_filter_ = false;
+    x_filter_.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
+    near_.clear();
+    near_begin_.assign(no + 1, 0);
+  }
   const Real s_in = p_.inner_skin;
   std::size_t jk = 0;  // next joint result (dense, in summation order)
   for (std::size_t i = 0; i < no; ++i) {
@@ -480,32 +434,27 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       t = t + out[jk].t;
       ++jk;
     };
-    if (refilter[i]) {
-      refilter[i] = 0;
-      ++refiltered;
-      const Ref ri = refs[i];
-      Near* kept = near_.data() + adj_begin_[i];
+    if (filter) {
       for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
         if (e.kind() == 2) {
-          const Ref& rj = refs[e.index];
-          const Vec3 d = ri.x - rj.x;
-          const Real rr = ri.r + rj.r, reach = rr + s_in, d2 = core::dot(d, d);
+          const Hot& hj = hot[e.index];
+          const Vec3 d = hot[i].x - hj.x;
+          const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
           if (d2 >= reach * reach) {
-            // Not listed. With inner_skin > 0 the pair is more than r_i + r_j apart now and
-            // fails contact()'s first test; with inner_skin <= 0 the references are the current
-            // positions and this is that very test (the pair's d up to an exact sign).
+            // Not listed. With inner_skin > 0 it fails contact()'s first test, which is this
+            // very d2 (the pair's d up to an exact sign) against the same bound: skipped here.
             if (d2 > rr * rr * (1 + 1e-9)) continue;
-            interact(e.kind(), e.side & 1u, e.index);
+            interact(e.kind(), e.side, e.index);
             continue;
           }
         }
-        *kept++ = {e.index, e.kind() | (e.side & 1u) << 2};
-        interact(e.kind(), e.side & 1u, e.index);
+        near_.push_back({e.index, e.kind() | e.side << 2});
+        interact(e.kind(), e.side, e.index);
       }
-      near_end_[i] = static_cast<std::size_t>(kept - near_.data());
+      near_begin_[i + 1] = near_.size();
     } else {
-      for (std::size_t k = adj_begin_[i]; k < near_end_[i]; ++k) {
+      for (std::size_t k = near_begin_[i]; k < near_begin_[i + 1]; ++k) {
         const Near e = near_[k];
         interact(e.tag & 3u, e.tag >> 2, e.index);
       }
@@ -513,8 +462,6 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
   }
-  if (refiltered > 0) ++filters_;
-  refiltered_ += refiltered;
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
   for (std::size_t i : broken_now_) {
     set_.u64(u_parent)[i] = kNoId;

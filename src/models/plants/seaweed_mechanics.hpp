@@ -81,10 +81,8 @@ class SeaweedBodies {
   void begin_step();
   /// \brief Number of neighbour-list rebuilds so far (tests, timing).
   long long rebuilds() const { return rebuilds_; }
-  /// \brief Number of sub-steps that re-filtered some sphere's inner contact list (timing).
+  /// \brief Number of inner contact-list filters so far (timing).
   long long filters() const { return filters_; }
-  /// \brief Number of sphere segments re-filtered so far (timing; n_owned per full filter).
-  long long refiltered() const { return refiltered_; }
   /// \brief Ghost cutoff used for the particle halo [m]: covers contacts and joints stretched
   /// up to twice seaweed.spacing, plus the skin.
   Real ghost_cutoff() const;
@@ -145,38 +143,22 @@ class SeaweedBodies {
   struct Entry {        // one interaction of an owned sphere (rebuild_lists)
     std::uint64_t key;  // partner global id << 2 | kind (0 joint as child, 1 as parent, 2 contact)
     std::uint32_t index;
-    std::uint32_t side;  // bit 0: 0 first sphere of the interaction, 1 second; | kNear
-    static constexpr std::uint32_t kNear = 2;  // a contact in the first inner list
-
+    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
     std::uint32_t kind() const { return static_cast<std::uint32_t>(key & 3); }
   };
   std::vector<Entry> entries_;
-  std::vector<std::uint8_t> pair_near_;  // per pairs_ entry: within the inner skin at the build
   // Inner list: the entries of entries_ that can still touch, in the same order (every joint, and
-  // the contacts whose reference positions were closer than the radii plus inner_skin when the
-  // sphere's segment was last filtered). Sphere i's inner entries are near_[adj_begin_[i],
-  // near_end_[i]) (near_ has the capacity of entries_, so one segment is re-filtered in place).
+  // the contacts closer than the radii plus inner_skin at the last filter), per owned sphere.
   struct Near {
     std::uint32_t index;  // Entry::index
     std::uint32_t tag;    // kind | side << 2
   };
   std::vector<Near> near_;
-  std::vector<std::size_t> near_end_;
-  // Reference position of every owned and ghost sphere (moved to its current position when it has
-  // moved half the inner skin from it) and its radius: what the filter tests.
-  struct Ref {
-    Vec3 x;
-    Real r;
-  };
-  std::vector<Ref> refs_;
-  // Per ghost g (slot no + g): the owned spheres whose neighbour list has a contact with it (CSR,
-  // built with the lists). Their segments are re-filtered when the ghost's reference moves.
-  std::vector<std::size_t> touch_begin_;
-  std::vector<std::uint32_t> touch_;
-  std::vector<std::uint8_t> refilter_;  // per owned sphere: its segment is filtered this sub-step
+  std::vector<std::size_t> near_begin_;
+  std::vector<Vec3> x_filter_;  // owned and ghost positions at the last filter
   bool need_filter_ = true;
-  long long filters_ = 0, refiltered_ = 0;
-  void mark_refilter();
+  long long filters_ = 0;
+  bool filter_due() const;
   int n_plants_ = 0;
   long long broken_local_ = 0;
   long long skipped_joints_ = 0;  // at the last list build, owned children only
