@@ -196,7 +196,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     // The same steps as fused pairs (LbmSolver::advance, what the seaweed sub-cycle runs).
     MPI_Barrier(comm);
     const double tf0 = MPI_Wtime();
-    lbm.advance(opts.steps);
+    lbm.advance(opts.steps, solvers::lbm::LbmSolver::PairMode::kFused);
     MPI_Barrier(comm);
     const double fused_mlups =
         double(opts.size) * opts.size * opts.size * opts.steps / (MPI_Wtime() - tf0) / 1e6;

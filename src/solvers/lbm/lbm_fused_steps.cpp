@@ -1,22 +1,53 @@
 /// \file lbm_fused_steps.cpp
 /// \brief Two AA steps fused plane by plane (temporal blocking of a neighbour step and the local
 /// step after it). See advance() and docs/lbm.md.
+#include <fmt/format.h>
+
 #include <algorithm>
 
 #include "solvers/lbm/lbm_solver.hpp"
 
 namespace biota::solvers::lbm {
 
-void LbmSolver::advance(int steps) {
+void LbmSolver::advance(int steps, PairMode mode) {
   int s = 0;
   if (streamed_ && s < steps) step(false), ++s;  // reach the post state: pairs start there
   for (; s + 2 <= steps; s += 2) {
-    if (fused_)
+    bool fuse = fused_ && mode != PairMode::kSingle;
+    if (fuse && mode == PairMode::kAuto) fuse = pick_fused();
+    const double t0 = MPI_Wtime();
+    if (fuse)
       fused_step_pair();
     else
       step(false), step(false);
+    if (mode == PairMode::kAuto) time_pair(fuse, MPI_Wtime() - t0);
   }
   if (s < steps) step(false);
+}
+
+bool LbmSolver::pick_fused() const {
+  // Both ways give the same bits, so the choice is free: which is faster depends on the machine
+  // (cache size against memory bandwidth) and on the rank grid (the single neighbour step overlaps
+  // its halo exchange; the fused pair does not). After two warm-up pairs, four pairs each way are
+  // timed alternately; then the faster one stays.
+  if (pair_trial_ < kWarmupPairs) return false;
+  if (pair_trial_ < kWarmupPairs + 2 * kTrialPairs) return (pair_trial_ - kWarmupPairs) % 2 == 0;
+  return fused_chosen_;
+}
+
+void LbmSolver::time_pair(bool fused, double seconds) {
+  if (pair_trial_ >= kWarmupPairs + 2 * kTrialPairs) return;
+  if (pair_trial_ >= kWarmupPairs) pair_seconds_[fused ? 1 : 0] += seconds;
+  if (++pair_trial_ < kWarmupPairs + 2 * kTrialPairs) return;
+  // The slowest rank decides, and every rank decides the same (the two ways communicate
+  // differently).
+  MPI_Allreduce(MPI_IN_PLACE, pair_seconds_, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
+  fused_chosen_ = pair_seconds_[1] < pair_seconds_[0];
+  if (decomp_.rank() == 0)
+    fmt::print("lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, {} pairs each)\n",
+               fused_chosen_ ? "fused plane by plane" : "as single steps",
+               1e3 * pair_seconds_[1] / kTrialPairs, 1e3 * pair_seconds_[0] / kTrialPairs,
+               kTrialPairs);
 }
 
 void LbmSolver::build_fused_plans() {

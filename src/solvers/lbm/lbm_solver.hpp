@@ -103,11 +103,14 @@ class LbmSolver {
   /// \brief Advance one lattice time step. With `update_macroscopic` the density and velocity
   /// fields are stored during the sweep and their ghosts refreshed (needed for coupling/output).
   void step(bool update_macroscopic = true);
+  /// \brief How advance() runs a pair of steps: fused plane by plane, as two single steps, or
+  /// whichever of the two timed faster in the first pairs of the run (the same bits either way).
+  enum class PairMode { kAuto, kFused, kSingle };
   /// \brief `steps` steps without the macroscopic update. Pairs of a neighbour step and the local
-  /// step after it run fused plane by plane along z when the rank's x axis has no neighbour (the
-  /// local step of a plane runs as soon as the neighbour step has passed the plane after it, while
-  /// its populations are still in cache): the same bits as `steps` calls of step(false).
-  void advance(int steps);
+  /// step after it can run fused plane by plane along z when the rank's x axis has no neighbour
+  /// (the local step of a plane runs as soon as the neighbour step has passed the plane after it,
+  /// while its populations are still in cache): the same bits as `steps` calls of step(false).
+  void advance(int steps, PairMode mode = PairMode::kAuto);
   long long step_index() const { return step_; }
   double time() const { return step_ * units_.dt(); }
 
@@ -211,7 +214,13 @@ class LbmSolver {
   /// feed, apart those feeding the first/last layer along an axis with neighbours (the ghost fold
   /// writes there, so their values are staged and stored after it).
   void build_fused_plans();
-  bool fused_ = false;
+  bool fused_ = false;  ///< fusion possible on this rank grid
+  bool pick_fused() const;
+  void time_pair(bool fused, double seconds);
+  static constexpr int kWarmupPairs = 2, kTrialPairs = 4;
+  int pair_trial_ = 0;
+  double pair_seconds_[2] = {0, 0};  ///< single, fused: trial pairs
+  bool fused_chosen_ = false;
   bool deferred_y_ = false, deferred_z_ = false;
   std::vector<BoundaryPlan> local_plan_by_z_, local_plan_deferred_by_z_;
   BoundaryPlan local_plan_after_fold_;

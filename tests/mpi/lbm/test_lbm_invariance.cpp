@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 
 #include "io/checkpoint.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
@@ -210,19 +211,20 @@ TEST_P(Invariance, ForceSpansSkipOnlyZeroForces) {
 
 // advance(n) fuses pairs of steps plane by plane: the same bits as n single steps, from either
 // parity, with the tank's walls, free slip, pulsed inlet, outlet, solids, body force and force
-// field.
+// field; and in the automatic mode, which times both ways in its first pairs and keeps one.
 TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
   const auto [lattice, trt] = GetParam();
   const auto p = tank_like(lattice, trt);
-  auto run = [&](bool fused, int first, int n) {
+  using Mode = LbmSolver::PairMode;
+  auto run = [&](Mode mode, int first, int n) {
     grid::Decomposition d(MPI_COMM_WORLD, p.cells, p.periodic(), {1, 0, 0});
     LbmSolver lbm(d, p);
     setup(lbm);
     for (int s = 0; s < first; ++s) lbm.step(false);
-    if (fused)
-      lbm.advance(n);
-    else
+    if (mode == Mode::kSingle)
       for (int s = 0; s < n; ++s) lbm.step(false);
+    else
+      lbm.advance(n, mode);
     lbm.update_macroscopic();
     const auto c = d.local_cells();
     std::vector<double> moments;
@@ -234,12 +236,14 @@ TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
         }
     return moments;
   };
-  for (int first : {0, 1}) {
-    const auto single = run(false, first, 9), fused = run(true, first, 9);
+  for (auto [first, n, mode] : {std::tuple{0, 9, Mode::kFused}, std::tuple{1, 9, Mode::kFused},
+                                std::tuple{1, 27, Mode::kAuto}}) {
+    const auto single = run(Mode::kSingle, first, n), other = run(mode, first, n);
     long long differ = 0;
-    for (std::size_t c = 0; c < single.size(); ++c) differ += single[c] != fused[c];
+    for (std::size_t c = 0; c < single.size(); ++c) differ += single[c] != other[c];
     MPI_Allreduce(MPI_IN_PLACE, &differ, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
-    EXPECT_EQ(differ, 0) << "moments differing after " << first << " + 9 steps";
+    EXPECT_EQ(differ, 0) << "moments differing after " << first << " + " << n << " steps ("
+                         << (mode == Mode::kAuto ? "auto" : "fused") << ")";
   }
 }
 
