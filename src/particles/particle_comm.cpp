@@ -38,6 +38,9 @@ ParticleComm::ParticleComm(const grid::Decomposition& decomp, Real dx, Vec3 orig
     hi_[d] = origin[d] + b.hi[d] * dx;
     glo_[d] = origin[d];
     ghi_[d] = origin[d] + decomp.global_cells()[d] * dx;
+    home_cells_[d] = {Real(b.lo[d]), Real(b.hi[d])};
+    first_[d] = decomp.coords()[d] == 0;
+    last_[d] = decomp.coords()[d] == decomp.dims()[d] - 1;
   }
 }
 
@@ -96,8 +99,11 @@ void ParticleComm::migrate(ParticleSet& set) {
       if (dims == 1) continue;
       std::array<std::vector<double>, 2> out;
       std::vector<char> gone(set.n_owned(), 0);
+      bool any_gone = false;
       for (std::size_t i = 0; i < set.n_owned(); ++i) {
-        int delta = axis_coord(d, set.real(ParticleSet::kPos, d)[i]) - me;
+        const Real v = set.real(ParticleSet::kPos, d)[i];
+        if (home_along(d, v)) continue;
+        int delta = axis_coord(d, v) - me;
         if (delta == 0) continue;
         if (decomp_.periodic(d)) {  // shortest way round
           if (delta > dims / 2) delta -= dims;
@@ -107,8 +113,9 @@ void ParticleComm::migrate(ParticleSet& set) {
         if (decomp_.neighbor(d, side) == MPI_PROC_NULL) continue;
         set.pack(i, false, out[side]);
         gone[i] = 1;
+        any_gone = true;
       }
-      set.remove_owned(gone);
+      if (any_gone) set.remove_owned(gone);
       for (int side = 0; side < 2; ++side) {
         auto in = sendrecv(out[side], decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
                            kTagMigrate + 2 * side, comm, sent_);
@@ -124,7 +131,8 @@ void ParticleComm::migrate(ParticleSet& set) {
     if (any_split)
       for (std::size_t i = 0; i < set.n_owned(); ++i)
         for (int d = 0; d < 3; ++d)
-          if (split[d] && axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
+          if (split[d] && !home_along(d, set.real(ParticleSet::kPos, d)[i]) &&
+              axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
             ++away;
             break;
           }

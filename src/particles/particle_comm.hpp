@@ -63,6 +63,13 @@ class ParticleComm {
  private:
   // Rank coordinate along axis d of the physical coordinate v.
   int axis_coord(int d, Real v) const;
+  // axis_coord(d, v) == this rank's coordinate, without its integer divisions: the cell
+  // coordinate t = (v - origin) / dx (the same rounding) against this rank's cells [a, b),
+  // open below on the first rank and above on the last (axis_coord clamps there).
+  bool home_along(int d, Real v) const {
+    const Real t = (v - origin_[d]) / dx_;
+    return (t >= home_cells_[d][0] || first_[d]) && (t < home_cells_[d][1] || last_[d]);
+  }
   Real wrap(int d, Real v) const;
   // wrap() on a periodic axis with box [lo, hi) (static: callers keep the bounds in registers).
   static Real wrap_coord(Real v, Real lo, Real hi);
@@ -78,7 +85,9 @@ class ParticleComm {
   const grid::Decomposition& decomp_;
   Real dx_;
   Vec3 origin_, lo_, hi_, glo_, ghi_;
-  std::array<std::array<GhostPass, 2>, 3> plan_{};  // [axis][side sent to]
+  std::array<std::array<Real, 2>, 3> home_cells_{};  // this rank's first and end cell, per axis
+  std::array<bool, 3> first_{}, last_{};             // first / last rank along the axis
+  std::array<std::array<GhostPass, 2>, 3> plan_{};   // [axis][side sent to]
   bool have_plan_ = false;
   core::CommCounter sent_;
 };
