@@ -103,10 +103,6 @@ void LbmSolver::build_links() {
 }
 
 void LbmSolver::build_plans() {
-  // The value link (s -> x, q) delivers is what x reads as its streamed population q: slot opp(q)
-  // of s before a neighbour step, slot q of x before a local one. The post-collision population p
-  // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
-  const auto plane = static_cast<std::int64_t>(f_.plane_size());
   // Overlap: a neighbour-step link is late when a cell it writes or reads (s, x, x2; before a
   // neighbour step every location it touches is a slot of one of them) lies in a ghost layer the
   // exchange fills. It runs after the exchange lands; the sweep of cell r touches the cells
@@ -136,36 +132,42 @@ void LbmSolver::build_plans() {
   overlap_ = axis >= 0 && band_[0] + band_[1] <= n;
   late_plan_ = {};
   for (int streamed = 0; streamed < 2; ++streamed) {
-    auto post = [&](int p, std::int64_t c) {
-      return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
-    };
     plans_[streamed] = {};
-    for (std::size_t i = 0; i < links_.size(); ++i) {
-      const Link& l = links_[i];
-      BoundaryPlan& plan = !streamed && overlap_ && late[i] ? late_plan_ : plans_[streamed];
-      const int q = l.q;
-      const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
-      switch (l.type) {
-        case -1:
-          plan.inlet.push_back({dst, post(opp_[q], l.x)});
-          plan.inlet_coef.push_back(l.coef);
-          break;
-        case int(FaceType::kFreeSlip):
-          plan.copies.push_back({dst, post(l.q2, l.x2)});
-          break;
-        case int(FaceType::kPressure):
-          plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
-          break;
-        case int(FaceType::kZeroGradient):
-          plan.copies.push_back({dst, post(q, l.x)});
-          break;
-        default:
-          plan.copies.push_back({dst, post(opp_[q], l.x)});
-      }
-    }
+    for (std::size_t i = 0; i < links_.size(); ++i)
+      add_link(!streamed && overlap_ && late[i] ? late_plan_ : plans_[streamed], links_[i],
+               streamed);
   }
   for (BoundaryPlan* plan : {&plans_[0], &plans_[1], &late_plan_}) compress_copies(*plan);
   build_fused_plans();
+}
+
+void LbmSolver::add_link(BoundaryPlan& plan, const Link& l, bool streamed) const {
+  // The value link (s -> x, q) delivers is what x reads as its streamed population q: slot opp(q)
+  // of s before a neighbour step, slot q of x before a local one. The post-collision population p
+  // of cell c is in slot opp(p) of c (post state) or slot p of c + c_p (streamed state).
+  const auto plane = static_cast<std::int64_t>(f_.plane_size());
+  auto post = [&](int p, std::int64_t c) {
+    return streamed ? p * plane + c + offset_[p] : opp_[p] * plane + c;
+  };
+  const int q = l.q;
+  const std::int64_t dst = streamed ? q * plane + l.x : opp_[q] * plane + l.s;
+  switch (l.type) {
+    case -1:
+      plan.inlet.push_back({dst, post(opp_[q], l.x)});
+      plan.inlet_coef.push_back(l.coef);
+      break;
+    case int(FaceType::kFreeSlip):
+      plan.copies.push_back({dst, post(l.q2, l.x2)});
+      break;
+    case int(FaceType::kPressure):
+      plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
+      break;
+    case int(FaceType::kZeroGradient):
+      plan.copies.push_back({dst, post(q, l.x)});
+      break;
+    default:
+      plan.copies.push_back({dst, post(opp_[q], l.x)});
+  }
 }
 
 void LbmSolver::compress_copies(BoundaryPlan& plan) {

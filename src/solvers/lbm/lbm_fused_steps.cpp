@@ -77,53 +77,32 @@ void LbmSolver::build_fused_plans() {
   local_plan_deferred_by_z_.assign(fused_ ? n.z : 0, {});
   if (!fused_) return;
   const std::int64_t g = f_.ghosts(), sy = f_.stride_y(), sz = f_.stride_z();
-  auto deferred = [&](std::int64_t cell, int& k) {
-    k = static_cast<int>(cell / sz - g);
-    const int j = static_cast<int>((cell / sy) % (n.y + 2 * g) - g);
-    return (deferred_y_ && (j == 0 || j == n.y - 1)) || (deferred_z_ && (k == 0 || k == n.z - 1));
+  auto coords = [&](std::int64_t cell) {  // local cell indices of a field offset
+    return Index3{static_cast<int>(cell % sy - g),
+                  static_cast<int>((cell / sy) % (n.y + 2 * g) - g),
+                  static_cast<int>(cell / sz - g)};
   };
-  // The same entries as plans_[1], split by their target cell x (links come cell by cell, so each
-  // part keeps the pressure links of a cell consecutive).
-  const auto plane = static_cast<std::int64_t>(f_.plane_size());
-  auto post = [&](int p, std::int64_t c) { return p * plane + c + offset_[p]; };
-  auto owned = [&](std::int64_t cell) {
-    const int k = static_cast<int>(cell / sz - g);
-    const int j = static_cast<int>((cell / sy) % (n.y + 2 * g) - g);
-    const int i = static_cast<int>(cell % sy - g);
-    return i >= 0 && i < n.x && j >= 0 && j < n.y && k >= 0 && k < n.z;
+  auto deferred = [&](const Index3& c) {
+    return (deferred_y_ && (c.y == 0 || c.y == n.y - 1)) ||
+           (deferred_z_ && (c.z == 0 || c.z == n.z - 1));
   };
   local_plan_after_fold_ = {};
+  // The same entries as plans_[1], split by their target cell x (links come cell by cell, so each
+  // part keeps the pressure links of a cell consecutive).
   for (const Link& l : links_) {
-    int k = 0;
-    const bool later = deferred(l.x, k);
+    const Index3 x = coords(l.x);
+    const bool later = deferred(x);
     // Free slip whose mirror cell is a ghost: its value arrives with the fold.
-    const bool after_fold = l.type == int(FaceType::kFreeSlip) && !owned(l.x2);
+    const bool after_fold =
+        l.type == int(FaceType::kFreeSlip) && !grid::Box{{0, 0, 0}, n}.contains(coords(l.x2));
     if (after_fold && !later) {  // cannot happen with y/z neighbours only; stay sequential
       fused_ = false;
       return;
     }
-    BoundaryPlan& plan = after_fold ? local_plan_after_fold_
-                         : later    ? local_plan_deferred_by_z_[k]
-                                    : local_plan_by_z_[k];
-    const int q = l.q;
-    const std::int64_t dst = q * plane + l.x;
-    switch (l.type) {
-      case -1:
-        plan.inlet.push_back({dst, post(opp_[q], l.x)});
-        plan.inlet_coef.push_back(l.coef);
-        break;
-      case int(FaceType::kFreeSlip):
-        plan.copies.push_back({dst, post(l.q2, l.x2)});
-        break;
-      case int(FaceType::kPressure):
-        plan.pressure.push_back({dst, post(opp_[q], l.x), l.x, q});
-        break;
-      case int(FaceType::kZeroGradient):
-        plan.copies.push_back({dst, post(q, l.x)});
-        break;
-      default:
-        plan.copies.push_back({dst, post(opp_[q], l.x)});
-    }
+    add_link(after_fold ? local_plan_after_fold_
+             : later    ? local_plan_deferred_by_z_[x.z]
+                        : local_plan_by_z_[x.z],
+             l, true);
   }
   for (auto& p : local_plan_by_z_) compress_copies(p);
   for (auto& p : local_plan_deferred_by_z_) compress_copies(p);

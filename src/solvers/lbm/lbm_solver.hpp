@@ -195,6 +195,9 @@ class LbmSolver {
   };
   void build_links();
   void build_plans();
+  /// \brief Append link `l` to `plan` for the step from the post (`streamed` false) or the
+  /// streamed state.
+  void add_link(BoundaryPlan& plan, const Link& l, bool streamed) const;
   static void compress_copies(BoundaryPlan& plan);
   void apply_boundaries(const BoundaryPlan& plan);
   /// \brief The values apply_boundaries() would write, appended as (target, value) pairs.
