@@ -86,6 +86,19 @@ std::vector<double> run_serial(const LbmParams& p, int steps, const std::string&
   return read_all(p, ckpt_at_end);
 }
 
+// Density and velocity of the owned cells, in cell order.
+std::vector<double> owned_moments(const LbmSolver& lbm) {
+  const auto n = lbm.decomposition().local_cells();
+  std::vector<double> moments;
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
+        moments.push_back(lbm.density()(i, j, k));
+        for (int c = 0; c < 3; ++c) moments.push_back(lbm.velocity()(i, j, k, c));
+      }
+  return moments;
+}
+
 class Invariance : public ::testing::TestWithParam<std::pair<const char*, bool>> {};
 
 }  // namespace
@@ -188,14 +201,7 @@ TEST_P(Invariance, ForceSpansSkipOnlyZeroForces) {
           if (g.x == 20 && g.y == 2 && g.z == 3) f(i, j, k, 1) = -0.0;  // a lone -0: loaded
         }
     for (int s = 0; s < 7; ++s) lbm.step(s % 3 == 0);  // the last one stores the moments
-    std::vector<double> moments;
-    for (int k = 0; k < n.z; ++k)
-      for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) {
-          moments.push_back(lbm.density()(i, j, k));
-          for (int c = 0; c < 3; ++c) moments.push_back(lbm.velocity()(i, j, k, c));
-        }
-    return moments;
+    return owned_moments(lbm);
   };
   const auto spans = run(0.0, true), everywhere = run(-0.0, true), none = run(0.0, false);
   long long differ = 0, forced = 0;
@@ -226,15 +232,7 @@ TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
     else
       lbm.advance(n, mode);
     lbm.update_macroscopic();
-    const auto c = d.local_cells();
-    std::vector<double> moments;
-    for (int k = 0; k < c.z; ++k)
-      for (int j = 0; j < c.y; ++j)
-        for (int i = 0; i < c.x; ++i) {
-          moments.push_back(lbm.density()(i, j, k));
-          for (int a = 0; a < 3; ++a) moments.push_back(lbm.velocity()(i, j, k, a));
-        }
-    return moments;
+    return owned_moments(lbm);
   };
   for (auto [first, n, mode] : {std::tuple{0, 9, Mode::kFused}, std::tuple{1, 9, Mode::kFused},
                                 std::tuple{1, 27, Mode::kAuto}}) {
