@@ -44,9 +44,9 @@ ParticleComm::ParticleComm(const grid::Decomposition& decomp, Real dx, Vec3 orig
   }
 }
 
-int ParticleComm::axis_coord(int d, Real v) const {
+int ParticleComm::block_of_cell(int d, Real t) const {
   const int n = decomp_.global_cells()[d], parts = decomp_.dims()[d];
-  int i = static_cast<int>(std::floor((v - origin_[d]) / dx_));
+  int i = static_cast<int>(std::floor(t));
   i = i < 0 ? 0 : (i >= n ? n - 1 : i);
   const int base = n / parts, rem = n % parts, big = rem * (base + 1);
   return i < big ? i / (base + 1) : rem + (i - big) / base;
@@ -101,9 +101,7 @@ void ParticleComm::migrate(ParticleSet& set) {
       std::vector<char> gone(set.n_owned(), 0);
       bool any_gone = false;
       for (std::size_t i = 0; i < set.n_owned(); ++i) {
-        const Real v = set.real(ParticleSet::kPos, d)[i];
-        if (home_along(d, v)) continue;
-        int delta = axis_coord(d, v) - me;
+        int delta = axis_coord(d, set.real(ParticleSet::kPos, d)[i]) - me;
         if (delta == 0) continue;
         if (decomp_.periodic(d)) {  // shortest way round
           if (delta > dims / 2) delta -= dims;
@@ -131,8 +129,7 @@ void ParticleComm::migrate(ParticleSet& set) {
     if (any_split)
       for (std::size_t i = 0; i < set.n_owned(); ++i)
         for (int d = 0; d < 3; ++d)
-          if (split[d] && !home_along(d, set.real(ParticleSet::kPos, d)[i]) &&
-              axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
+          if (split[d] && axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
             ++away;
             break;
           }

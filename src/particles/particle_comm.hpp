@@ -61,15 +61,18 @@ class ParticleComm {
   const core::CommCounter& sent() const { return sent_; }
 
  private:
-  // Rank coordinate along axis d of the physical coordinate v.
-  int axis_coord(int d, Real v) const;
-  // axis_coord(d, v) == this rank's coordinate, without its integer divisions: the cell
-  // coordinate t = (v - origin) / dx (the same rounding) against this rank's cells [a, b),
-  // open below on the first rank and above on the last (axis_coord clamps there).
-  bool home_along(int d, Real v) const {
+  // Rank coordinate along axis d of the physical coordinate v. Inline for the common answer
+  // "this rank" (migrate asks it per particle): the cell coordinate t = (v - origin) / dx against
+  // this rank's cells [a, b), open below on the first rank and above on the last (the block
+  // search clamps there), gives the same answer as the block search without its divisions.
+  int axis_coord(int d, Real v) const {
     const Real t = (v - origin_[d]) / dx_;
-    return (t >= home_cells_[d][0] || first_[d]) && (t < home_cells_[d][1] || last_[d]);
+    if ((t >= home_cells_[d][0] || first_[d]) && (t < home_cells_[d][1] || last_[d]))
+      return decomp_.coords()[d];
+    return block_of_cell(d, t);
   }
+  // The block search of axis_coord from the cell coordinate t.
+  int block_of_cell(int d, Real t) const;
   Real wrap(int d, Real v) const;
   // wrap() on a periodic axis with box [lo, hi) (static: callers keep the bounds in registers).
   static Real wrap_coord(Real v, Real lo, Real hi);
