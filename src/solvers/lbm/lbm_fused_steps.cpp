@@ -13,14 +13,16 @@ void LbmSolver::advance(int steps, PairMode mode) {
   int s = 0;
   if (streamed_ && s < steps) step(false), ++s;  // reach the post state: pairs start there
   for (; s + 2 <= steps; s += 2) {
+    // The fused-pair trial starts once the single steps have settled their overlap choice.
+    const bool trial = mode == PairMode::kAuto && overlap_decided();
     bool fuse = fused_ && mode != PairMode::kSingle;
-    if (fuse && mode == PairMode::kAuto) fuse = pick_fused();
+    if (fuse && mode == PairMode::kAuto) fuse = trial && pick_fused();
     const double t0 = MPI_Wtime();
     if (fuse)
       fused_step_pair();
     else
       step(false), step(false);
-    if (mode == PairMode::kAuto) time_pair(fuse, MPI_Wtime() - t0);
+    if (trial) time_pair(fuse, MPI_Wtime() - t0);
   }
   if (s < steps) step(false);
 }
@@ -43,7 +45,7 @@ void LbmSolver::time_pair(bool fused, double seconds) {
   // differently).
   MPI_Allreduce(MPI_IN_PLACE, pair_seconds_, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
   fused_chosen_ = pair_seconds_[1] < pair_seconds_[0];
-  if (decomp_.rank() == 0)
+  if (params_.report_choices && decomp_.rank() == 0)
     fmt::print("lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, {} pairs each)\n",
                fused_chosen_ ? "fused plane by plane" : "as single steps",
                1e3 * pair_seconds_[1] / kTrialPairs, 1e3 * pair_seconds_[0] / kTrialPairs,

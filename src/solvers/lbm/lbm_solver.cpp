@@ -324,7 +324,10 @@ void LbmSolver::step(bool update_macro) {
   // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
   // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
   const bool neighbour_step = !streamed_;
-  if (neighbour_step && overlap_) {
+  const bool timed = neighbour_step && !update_macro && !overlap_decided();
+  const bool overlapped = neighbour_step && overlap_ && pick_overlap(update_macro);
+  const double ts = timed ? MPI_Wtime() : 0;
+  if (overlapped) {
     overlapped_neighbour_step(update_macro);
     streamed_ = true;
     const double t0 = MPI_Wtime();
@@ -335,7 +338,7 @@ void LbmSolver::step(bool update_macro) {
     if (neighbour_step) halo_->exchange();
     double t1 = MPI_Wtime();
     apply_boundaries(plans_[streamed_]);
-    if (neighbour_step) apply_boundaries(late_plan_);  // empty unless overlap_
+    if (neighbour_step) apply_boundaries(late_plan_);  // empty unless overlap_ (all links then)
     double t2 = MPI_Wtime();
     sweep(update_macro);
     double t3 = MPI_Wtime();
@@ -349,6 +352,26 @@ void LbmSolver::step(bool update_macro) {
   }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
+  if (timed) time_overlap(overlapped, MPI_Wtime() - ts);
+}
+
+bool LbmSolver::pick_overlap(bool macro) const {
+  if (overlap_decided()) return overlap_chosen_;
+  if (macro || overlap_trial_ < kWarmupSteps) return true;
+  return (overlap_trial_ - kWarmupSteps) % 2 == 0;
+}
+
+void LbmSolver::time_overlap(bool overlapped, double seconds) {
+  if (overlap_trial_ >= kWarmupSteps) overlap_seconds_[overlapped ? 1 : 0] += seconds;
+  if (++overlap_trial_ < kWarmupSteps + 2 * kTrialSteps) return;
+  // The slowest rank decides, and every rank decides the same (the ways communicate differently).
+  MPI_Allreduce(MPI_IN_PLACE, overlap_seconds_, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
+  overlap_chosen_ = overlap_seconds_[1] < overlap_seconds_[0];
+  if (params_.report_choices && decomp_.rank() == 0)
+    fmt::print("lbm: neighbour steps {} ({:.2f} ms overlapped, {:.2f} ms not, {} steps each)\n",
+               overlap_chosen_ ? "overlap their halo exchange" : "exchange before the sweep",
+               1e3 * overlap_seconds_[1] / kTrialSteps, 1e3 * overlap_seconds_[0] / kTrialSteps,
+               kTrialSteps);
 }
 
 double LbmSolver::total_mass() const {

@@ -76,9 +76,11 @@ struct LbmParams {
   InletPatch inlet;
   OutletPatch outlet;
   double max_mach = 0.3;
-  /// Overlap the neighbour step's halo exchange with the sweep where possible (bitwise the same;
-  /// off only for benchmark A/B runs, not a deck key).
+  /// Overlap the neighbour step's halo exchange with the sweep where possible and faster
+  /// (bitwise the same; off only for benchmark A/B runs, not a deck key).
   bool overlap_halo = true;
+  /// Print which way the timed choices (overlap, fused pairs) went, on rank 0 (not a deck key).
+  bool report_choices = true;
   /// \brief Read and check the `lbm.*` keys (tau/Mach stability is checked here: InputError).
   static LbmParams from_config(const core::Config& cfg);
   std::array<bool, 3> periodic() const {
@@ -231,6 +233,19 @@ class LbmSolver {
   /// \brief A neighbour step with the halo exchange and the ghost fold in flight during parts of
   /// the interior sweep (see step()).
   void overlapped_neighbour_step(bool macro);
+  /// \brief Whether a neighbour step overlaps its communication. Both ways give the same bits;
+  /// which is faster depends on the machine (the overlap splits the sweep into four pieces), so,
+  /// as advance() does for fused pairs, the first neighbour steps without the macroscopic update
+  /// time both ways alternately and the faster one stays.
+  bool pick_overlap(bool macro) const;
+  void time_overlap(bool overlapped, double seconds);
+  bool overlap_decided() const {
+    return !overlap_ || overlap_trial_ >= kWarmupSteps + 2 * kTrialSteps;
+  }
+  static constexpr int kWarmupSteps = 2, kTrialSteps = 4;
+  int overlap_trial_ = 0;
+  double overlap_seconds_[2] = {0, 0};  ///< plain, overlapped: trial neighbour steps
+  bool overlap_chosen_ = true;
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
   /// \brief The post-collision populations in natural order (solid cells at rest, w_q).
