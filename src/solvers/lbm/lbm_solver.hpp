@@ -224,7 +224,7 @@ class LbmSolver {
   void time_pair(bool fused, double seconds);
   static constexpr int kWarmupPairs = 2, kTrialPairs = 4;
   int pair_trial_ = 0;
-  double pair_seconds_[2] = {0, 0};  ///< single, fused: trial pairs
+  double pair_seconds_[2] = {1e300, 1e300};  ///< single, fused: fastest trial pair
   bool fused_chosen_ = false;
   bool deferred_y_ = false, deferred_z_ = false;
   std::vector<BoundaryPlan> local_plan_by_z_, local_plan_deferred_by_z_;
@@ -244,7 +244,7 @@ class LbmSolver {
   }
   static constexpr int kWarmupSteps = 2, kTrialSteps = 4;
   int overlap_trial_ = 0;
-  double overlap_seconds_[2] = {0, 0};  ///< plain, overlapped: trial neighbour steps
+  double overlap_seconds_[2] = {1e300, 1e300};  ///< plain, overlapped: fastest trial step
   bool overlap_chosen_ = true;
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
