@@ -13,44 +13,25 @@ void LbmSolver::advance(int steps, PairMode mode) {
   int s = 0;
   if (streamed_ && s < steps) step(false), ++s;  // reach the post state: pairs start there
   for (; s + 2 <= steps; s += 2) {
-    // The fused-pair trial starts once the single steps have settled their overlap choice.
-    const bool trial = mode == PairMode::kAuto && overlap_decided();
+    // Pairs are timed for the choice only while the single steps are not in their own trial of
+    // the halo overlap (a single pair would then mix both ways); during that trial the pairs run
+    // as single steps, so that it ends.
+    const bool timed = mode == PairMode::kAuto && fused_ && !overlap_choice_.deciding();
     bool fuse = fused_ && mode != PairMode::kSingle;
-    if (fuse && mode == PairMode::kAuto) fuse = trial && pick_fused();
+    if (fuse && mode == PairMode::kAuto) fuse = timed && fuse_choice_.pick();
     const double t0 = MPI_Wtime();
     if (fuse)
       fused_step_pair();
     else
       step(false), step(false);
-    if (trial) time_pair(fuse, MPI_Wtime() - t0);
+    if (timed && fuse_choice_.record(fuse, MPI_Wtime() - t0, decomp_.comm()) &&
+        params_.report_choices && decomp_.rank() == 0)
+      fmt::print(
+          "lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, best of {} each)\n",
+          fuse_choice_.chosen() ? "fused plane by plane" : "as single steps",
+          1e3 * fuse_choice_.best(true), 1e3 * fuse_choice_.best(false), fuse_choice_.trials());
   }
   if (s < steps) step(false);
-}
-
-bool LbmSolver::pick_fused() const {
-  // Both ways give the same bits, so the choice is free: which is faster depends on the machine
-  // (cache size against memory bandwidth) and on the rank grid (the single neighbour step overlaps
-  // its halo exchange; the fused pair does not). After two warm-up pairs, four pairs each way are
-  // timed alternately; then the faster (by its fastest pair) stays.
-  if (pair_trial_ < kWarmupPairs) return false;
-  if (pair_trial_ < kWarmupPairs + 2 * kTrialPairs) return (pair_trial_ - kWarmupPairs) % 2 == 0;
-  return fused_chosen_;
-}
-
-void LbmSolver::time_pair(bool fused, double seconds) {
-  if (pair_trial_ >= kWarmupPairs + 2 * kTrialPairs) return;
-  // The fastest of each way's trials: noise (another process, a descheduled core) only adds.
-  if (pair_trial_ >= kWarmupPairs)
-    pair_seconds_[fused ? 1 : 0] = std::min(pair_seconds_[fused ? 1 : 0], seconds);
-  if (++pair_trial_ < kWarmupPairs + 2 * kTrialPairs) return;
-  // The slowest rank decides, and every rank decides the same (the two ways communicate
-  // differently).
-  MPI_Allreduce(MPI_IN_PLACE, pair_seconds_, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
-  fused_chosen_ = pair_seconds_[1] < pair_seconds_[0];
-  if (params_.report_choices && decomp_.rank() == 0)
-    fmt::print("lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, best of {} each)\n",
-               fused_chosen_ ? "fused plane by plane" : "as single steps", 1e3 * pair_seconds_[1],
-               1e3 * pair_seconds_[0], kTrialPairs);
 }
 
 void LbmSolver::build_fused_plans() {

@@ -324,8 +324,10 @@ void LbmSolver::step(bool update_macro) {
   // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
   // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
   const bool neighbour_step = !streamed_;
-  const bool timed = neighbour_step && !update_macro && !overlap_decided();
-  const bool overlapped = neighbour_step && overlap_ && pick_overlap(update_macro);
+  // Whether to overlap is a timed choice (overlap_choice_), made on the steps without the update.
+  const bool timed = neighbour_step && overlap_ && !update_macro;
+  const bool overlapped =
+      neighbour_step && overlap_ && (timed ? overlap_choice_.pick() : overlap_choice_.chosen());
   const double ts = timed ? MPI_Wtime() : 0;
   if (overlapped) {
     overlapped_neighbour_step(update_macro);
@@ -352,26 +354,13 @@ void LbmSolver::step(bool update_macro) {
   }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
-  if (timed) time_overlap(overlapped, MPI_Wtime() - ts);
-}
-
-bool LbmSolver::pick_overlap(bool macro) const {
-  if (overlap_decided()) return overlap_chosen_;
-  if (macro || overlap_trial_ < kWarmupSteps) return true;
-  return (overlap_trial_ - kWarmupSteps) % 2 == 0;
-}
-
-void LbmSolver::time_overlap(bool overlapped, double seconds) {
-  if (overlap_trial_ >= kWarmupSteps)  // the fastest of each way's trials, as for fused pairs
-    overlap_seconds_[overlapped ? 1 : 0] = std::min(overlap_seconds_[overlapped ? 1 : 0], seconds);
-  if (++overlap_trial_ < kWarmupSteps + 2 * kTrialSteps) return;
-  // The slowest rank decides, and every rank decides the same (the ways communicate differently).
-  MPI_Allreduce(MPI_IN_PLACE, overlap_seconds_, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
-  overlap_chosen_ = overlap_seconds_[1] < overlap_seconds_[0];
-  if (params_.report_choices && decomp_.rank() == 0)
-    fmt::print("lbm: neighbour steps {} ({:.2f} ms overlapped, {:.2f} ms not, best of {} each)\n",
-               overlap_chosen_ ? "overlap their halo exchange" : "exchange before the sweep",
-               1e3 * overlap_seconds_[1], 1e3 * overlap_seconds_[0], kTrialSteps);
+  if (timed && overlap_choice_.record(overlapped, MPI_Wtime() - ts, decomp_.comm()) &&
+      params_.report_choices && decomp_.rank() == 0)
+    fmt::print(
+        "lbm: neighbour steps {} ({:.2f} ms overlapped, {:.2f} ms not, best of {} each)\n",
+        overlap_choice_.chosen() ? "overlap their halo exchange" : "exchange before the sweep",
+        1e3 * overlap_choice_.best(true), 1e3 * overlap_choice_.best(false),
+        overlap_choice_.trials());
 }
 
 double LbmSolver::total_mass() const {

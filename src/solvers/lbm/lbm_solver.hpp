@@ -25,6 +25,7 @@
 #include "grid/field.hpp"
 #include "grid/ghost_fold.hpp"
 #include "grid/halo_exchange.hpp"
+#include "solvers/lbm/timed_choice.hpp"
 #include "solvers/lbm/unit_converter.hpp"
 
 namespace biota::io {
@@ -220,12 +221,9 @@ class LbmSolver {
   /// writes there, so their values are staged and stored after it).
   void build_fused_plans();
   bool fused_ = false;  ///< fusion possible on this rank grid
-  bool pick_fused() const;
-  void time_pair(bool fused, double seconds);
-  static constexpr int kWarmupPairs = 2, kTrialPairs = 4;
-  int pair_trial_ = 0;
-  double pair_seconds_[2] = {1e300, 1e300};  ///< single, fused: fastest trial pair
-  bool fused_chosen_ = false;
+  /// Fused pairs or single steps (advance(), PairMode::kAuto): the first trial after two warm-up
+  /// pairs, four pairs each way, again every 500 pairs.
+  TimedChoice fuse_choice_{2, 4, 500, false};
   bool deferred_y_ = false, deferred_z_ = false;
   std::vector<BoundaryPlan> local_plan_by_z_, local_plan_deferred_by_z_;
   BoundaryPlan local_plan_after_fold_;
@@ -233,19 +231,11 @@ class LbmSolver {
   /// \brief A neighbour step with the halo exchange and the ghost fold in flight during parts of
   /// the interior sweep (see step()).
   void overlapped_neighbour_step(bool macro);
-  /// \brief Whether a neighbour step overlaps its communication. Both ways give the same bits;
-  /// which is faster depends on the machine (the overlap splits the sweep into four pieces), so,
-  /// as advance() does for fused pairs, the first neighbour steps without the macroscopic update
-  /// time both ways alternately and the faster one stays.
-  bool pick_overlap(bool macro) const;
-  void time_overlap(bool overlapped, double seconds);
-  bool overlap_decided() const {
-    return !overlap_ || overlap_trial_ >= kWarmupSteps + 2 * kTrialSteps;
-  }
-  static constexpr int kWarmupSteps = 2, kTrialSteps = 4;
-  int overlap_trial_ = 0;
-  double overlap_seconds_[2] = {1e300, 1e300};  ///< plain, overlapped: fastest trial step
-  bool overlap_chosen_ = true;
+  /// Whether a neighbour step overlaps its communication with the sweep (which splits the sweep
+  /// into four pieces): timed on the neighbour steps without the macroscopic update, the first
+  /// trial after two of them, four each way, again every 1000; steps with the update take the
+  /// current choice.
+  TimedChoice overlap_choice_{2, 4, 1000, true};
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
   /// \brief The post-collision populations in natural order (solid cells at rest, w_q).

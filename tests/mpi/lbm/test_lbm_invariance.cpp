@@ -218,7 +218,8 @@ TEST_P(Invariance, ForceSpansSkipOnlyZeroForces) {
 // advance(n) fuses pairs of steps plane by plane: the same bits as n single steps, from either
 // parity, with the tank's walls, free slip, pulsed inlet, outlet, solids, body force and force
 // field; and in the automatic mode, which times both ways in its first pairs and keeps one (after
-// the single steps' own trial of overlapping the halo exchange or not: 61 steps cover both).
+// the single steps' own trial of overlapping the halo exchange or not: 61 steps cover both; 1201
+// steps also the repeated trials, every 500 pairs).
 TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
   const auto [lattice, trt] = GetParam();
   const auto p = tank_like(lattice, trt);
@@ -236,7 +237,7 @@ TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
     return owned_moments(lbm);
   };
   for (auto [first, n, mode] : {std::tuple{0, 9, Mode::kFused}, std::tuple{1, 9, Mode::kFused},
-                                std::tuple{1, 61, Mode::kAuto}}) {
+                                std::tuple{1, 61, Mode::kAuto}, std::tuple{0, 1201, Mode::kAuto}}) {
     const auto single = run(Mode::kSingle, first, n), other = run(mode, first, n);
     long long differ = 0;
     for (std::size_t c = 0; c < single.size(); ++c) differ += single[c] != other[c];
@@ -244,6 +245,35 @@ TEST_P(Invariance, FusedStepPairsGiveTheBitsOfSingleSteps) {
     EXPECT_EQ(differ, 0) << "moments differing after " << first << " + " << n << " steps ("
                          << (mode == Mode::kAuto ? "auto" : "fused") << ")";
   }
+}
+
+// The timed choice: warm-up uses take the initial way, the trial alternates starting with `true`,
+// the faster way by its fastest use wins (the slowest rank's time counts), and the trial repeats
+// every period, so a later change of speed changes the choice.
+TEST(TimedChoice, AlternatesDecidesAndRetries) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  TimedChoice choice(2, 3, 20, false);
+  auto use = [&](double t_true, double t_false) {
+    const bool way = choice.pick();
+    // Rank 0 is slower on `true`: its times must decide on every rank.
+    const double t = way ? t_true * (rank == 0 ? 1.5 : 1.0) : t_false;
+    return std::pair{way, choice.record(way, t, MPI_COMM_WORLD)};
+  };
+  EXPECT_FALSE(use(1.0, 1.2).first);  // warm-up: the initial way
+  EXPECT_FALSE(use(1.0, 1.2).first);
+  bool ways[6], reported = false;
+  for (bool& w : ways) {
+    const auto [way, report] = use(1.0, 1.2);  // `true` takes 1.5 s on rank 0: `false` wins
+    w = way, reported = reported || report;
+  }
+  EXPECT_TRUE(ways[0] && !ways[1] && ways[2] && !ways[3] && ways[4] && !ways[5]);
+  EXPECT_TRUE(reported);  // the first decision is reported
+  EXPECT_FALSE(choice.chosen());
+  EXPECT_DOUBLE_EQ(choice.best(true), 1.5);
+  for (int u = 8; u < 20; ++u) EXPECT_FALSE(use(1.0, 1.2).first);  // the choice holds
+  for (int u = 0; u < 8; ++u) use(0.5, 1.2);  // the next trial: `true` now takes 0.75 s
+  EXPECT_TRUE(choice.chosen());
 }
 
 INSTANTIATE_TEST_SUITE_P(Lattices, Invariance,
