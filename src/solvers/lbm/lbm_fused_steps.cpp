@@ -15,17 +15,18 @@ void LbmSolver::advance(int steps, PairMode mode) {
   for (; s + 2 <= steps; s += 2) {
     // Pairs are timed for the choice only while the single steps are not in their own trial of
     // the halo overlap (a single pair would then mix both ways); during that trial the pairs run
-    // as single steps, so that it ends.
-    const bool timed = mode == PairMode::kAuto && fused_ && !overlap_choice_.deciding();
-    bool fuse = fused_ && mode != PairMode::kSingle;
-    if (fuse && mode == PairMode::kAuto) fuse = timed && fuse_choice_.pick();
+    // as single steps, so that it ends. Every rank times and records the way asked for, also a
+    // rank that cannot fuse (its local size or boundary links; it steps singly either way): the
+    // decision is collective, and the group's time under each request is what counts.
+    const bool timed = mode == PairMode::kAuto && !overlap_choice_.deciding();
+    const bool want_fused = mode == PairMode::kFused || (timed && fuse_choice_.pick());
     const double t0 = MPI_Wtime();
-    if (fuse)
+    if (fused_ && want_fused)
       fused_step_pair();
     else
       step(false), step(false);
-    if (timed && fuse_choice_.record(fuse, MPI_Wtime() - t0, decomp_.comm()) &&
-        params_.report_choices && decomp_.rank() == 0)
+    if (timed && fuse_choice_.record(want_fused, MPI_Wtime() - t0, decomp_.comm()) &&
+        params_.report_choices && decomp_.rank() == 0 && fused_)
       fmt::print(
           "lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, best of {} each)\n",
           fuse_choice_.chosen() ? "fused plane by plane" : "as single steps",

@@ -324,10 +324,13 @@ void LbmSolver::step(bool update_macro) {
   // Neighbour step: the crossing populations come in through the ghosts before the sweep and the
   // ones streamed out into the ghosts go to their owners after it. Local step: no communication.
   const bool neighbour_step = !streamed_;
-  // Whether to overlap is a timed choice (overlap_choice_), made on the steps without the update.
-  const bool timed = neighbour_step && overlap_ && !update_macro;
-  const bool overlapped =
-      neighbour_step && overlap_ && (timed ? overlap_choice_.pick() : overlap_choice_.chosen());
+  // Whether to overlap is a timed choice (overlap_choice_), made on the neighbour steps without
+  // the update. Its decision is collective, so every rank of a grid with one cut axis times and
+  // records the way asked for, also a rank whose bands do not allow the overlap (overlap_ is
+  // per rank; it steps plainly either way).
+  const bool timed = neighbour_step && overlap_axis_ >= 0 && !update_macro;
+  const bool want_overlap = timed ? overlap_choice_.pick() : overlap_choice_.chosen();
+  const bool overlapped = neighbour_step && overlap_ && want_overlap;
   const double ts = timed ? MPI_Wtime() : 0;
   if (overlapped) {
     overlapped_neighbour_step(update_macro);
@@ -354,7 +357,7 @@ void LbmSolver::step(bool update_macro) {
   }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
-  if (timed && overlap_choice_.record(overlapped, MPI_Wtime() - ts, decomp_.comm()) &&
+  if (timed && overlap_choice_.record(want_overlap, MPI_Wtime() - ts, decomp_.comm()) &&
       params_.report_choices && decomp_.rank() == 0)
     fmt::print(
         "lbm: neighbour steps {} ({:.2f} ms overlapped, {:.2f} ms not, best of {} each)\n",
