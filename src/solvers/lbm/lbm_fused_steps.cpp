@@ -25,12 +25,9 @@ void LbmSolver::advance(int steps, PairMode mode) {
       fused_step_pair();
     else
       step(false), step(false);
-    if (timed && fuse_choice_.record(want_fused, MPI_Wtime() - t0, decomp_.comm()) &&
-        params_.report_choices && decomp_.rank() == 0 && fused_)
-      fmt::print(
-          "lbm: step pairs {} ({:.2f} ms fused, {:.2f} ms single per pair, best of {} each)\n",
-          fuse_choice_.chosen() ? "fused plane by plane" : "as single steps",
-          1e3 * fuse_choice_.best(true), 1e3 * fuse_choice_.best(false), fuse_choice_.trials());
+    if (timed && fuse_choice_.record(want_fused, MPI_Wtime() - t0, decomp_.comm()) && fused_)
+      report_choice(fuse_choice_, "step pairs", "fused plane by plane", "as single steps", "fused",
+                    "single per pair");
   }
   if (s < steps) step(false);
 }

@@ -357,13 +357,18 @@ void LbmSolver::step(bool update_macro) {
   }
   ++step_;
   updates_ += static_cast<double>(decomp_.local_cells().product());
-  if (timed && overlap_choice_.record(want_overlap, MPI_Wtime() - ts, decomp_.comm()) &&
-      params_.report_choices && decomp_.rank() == 0)
-    fmt::print(
-        "lbm: neighbour steps {} ({:.2f} ms overlapped, {:.2f} ms not, best of {} each)\n",
-        overlap_choice_.chosen() ? "overlap their halo exchange" : "exchange before the sweep",
-        1e3 * overlap_choice_.best(true), 1e3 * overlap_choice_.best(false),
-        overlap_choice_.trials());
+  if (timed && overlap_choice_.record(want_overlap, MPI_Wtime() - ts, decomp_.comm()))
+    report_choice(overlap_choice_, "neighbour steps", "overlap their halo exchange",
+                  "exchange before the sweep", "overlapped", "not");
+}
+
+void LbmSolver::report_choice(const TimedChoice& c, const char* what, const char* if_true,
+                              const char* if_false, const char* true_is,
+                              const char* false_is) const {
+  if (!params_.report_choices || decomp_.rank() != 0) return;
+  fmt::print("lbm: {} {} ({:.2f} ms {}, {:.2f} ms {}, best of {} each)\n", what,
+             c.chosen() ? if_true : if_false, 1e3 * c.best(true), true_is, 1e3 * c.best(false),
+             false_is, c.trials());
 }
 
 double LbmSolver::total_mass() const {

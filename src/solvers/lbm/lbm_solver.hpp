@@ -236,6 +236,10 @@ class LbmSolver {
   /// trial after two of them, four each way, again every 1000; steps with the update take the
   /// current choice.
   TimedChoice overlap_choice_{2, 4, 1000, true};
+  /// \brief One line on rank 0 (unless params.report_choices is off) saying which way `c` went,
+  /// with the fastest trial of each way.
+  void report_choice(const TimedChoice& c, const char* what, const char* if_true,
+                     const char* if_false, const char* true_is, const char* false_is) const;
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
   /// \brief The post-collision populations in natural order (solid cells at rest, w_q).

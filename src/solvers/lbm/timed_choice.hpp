@@ -36,19 +36,19 @@ class TimedChoice {
     seconds_[way ? 1 : 0] = std::min(seconds_[way ? 1 : 0], seconds);
     if (phase != warmup_ + 2 * trials_ - 1) return false;
     MPI_Allreduce(MPI_IN_PLACE, seconds_, 2, MPI_DOUBLE, MPI_MAX, comm);
-    const bool was = chosen_;
+    const bool changed = !decided_once_ || chosen_ != (seconds_[1] < seconds_[0]);
     chosen_ = seconds_[1] < seconds_[0];
+    decided_once_ = true;
     decided_[0] = seconds_[0], decided_[1] = seconds_[1];
     seconds_[0] = seconds_[1] = 1e300;
-    const bool report = decisions_++ == 0 || chosen_ != was;
-    return report;
+    return changed;
   }
   int trials() const { return trials_; }
 
  private:
   int warmup_, trials_, period_;
-  bool chosen_;
-  long long uses_ = 0, decisions_ = 0;
+  bool chosen_, decided_once_ = false;
+  long long uses_ = 0;
   double seconds_[2] = {1e300, 1e300};  ///< fastest use of [way false, way true] in this trial
   double decided_[2] = {0, 0};
 };
