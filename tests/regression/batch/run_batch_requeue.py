@@ -32,6 +32,7 @@ def final_pieces(run_dir):
 
 
 with tempfile.TemporaryDirectory() as tmp:
+    tmp = os.environ.get("KEEP_TMP", tmp)
     ref = os.path.join(tmp, "ref")
     p = subprocess.run([MPIEXEC, "-n", "2", BIOTA, "run", os.path.join(SRC, "input", "tank.toml")]
                        + SETS + ["--set", f"output.dir={ref}", "--set", f"checkpoint.dir={ref}/ck"],
@@ -41,9 +42,9 @@ with tempfile.TemporaryDirectory() as tmp:
                FAKE_MPIEXEC=MPIEXEC, FAKE_SCHED_DIR=tmp)
     # The fake schedulers' limit falls at each segment's first progress line (every 500 steps of
     # 1800), so every segment but the last is cut mid-run; SIGKILL follows 30 s (SLURM, --margin)
-    # or 10 s (PBS) later. PBS's own deadline (1 h) does not fire here. (With a line every 1000
-    # steps, the 800 steps after the first took ~0.1 s on a fast host, and once a segment finished
-    # before the signal reached it: one segment, a failed check.)
+    # or 10 s (PBS) later. PBS's own deadline (1 h) does not fire here. The fake scheduler freezes
+    # the ranks until the forwarded signal is pending in each: this run does 1800 steps in 0.1 s,
+    # and twice a segment finished before the signal reached it (one segment, a failed check).
     for sched, time_limit in (("slurm", "00:10:00"), ("pbs", "01:00:00")):
         run_dir = os.path.join(tmp, sched)
         cmd = [os.path.join(SRC, "jobs", "submit.sh"), sched, os.path.join(SRC, "input", "tank.toml"),

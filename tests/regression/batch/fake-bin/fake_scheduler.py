@@ -19,27 +19,81 @@ import subprocess
 import sys
 import time
 
+FREEZE_MAX = 1.0  # s the ranks stay frozen at most (a signal may reach a thread as it stops)
 KILL_DELAY = 10  # s from PBS's SIGTERM to its SIGKILL (PBS Pro's default kill_delay)
 QUEUE = os.environ.get("FAKE_SCHED_DIR", "/tmp") + "/queue"
+
+
+def job_ranks(root_pid):
+    """The Biota rank processes below root_pid (the batch shell): descendants named `biota`."""
+    children = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    stat = f.read()
+            except OSError:
+                continue
+            comm = stat[stat.index("(") + 1:stat.rindex(")")]
+            ppid = int(stat[stat.rindex(")") + 2:].split()[1])
+            children.setdefault(ppid, []).append((int(entry), comm))
+    ranks, todo = [], [root_pid]
+    while todo:
+        for pid, comm in children.get(todo.pop(), []):
+            todo.append(pid)
+            if comm == "biota":
+                ranks.append(pid)
+    return ranks
+
+
+def usr1_pending(pid):
+    """True if SIGUSR1 waits in the pending set of pid (thread or process), or pid is gone."""
+    bit = 1 << (signal.SIGUSR1 - 1)
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            fields = dict(line.split(":", 1) for line in f if ":" in line)
+    except OSError:
+        return True
+    return any(int(fields.get(k, "0").strip(), 16) & bit for k in ("SigPnd", "ShdPnd"))
 
 
 def run_job(script, env, log, warn_sig, kill_after):
     """Run one job segment; its "time limit" falls when the job has printed its first progress line
     (a clock in steps, so the limit lands mid-run on a loaded or an idle machine alike): warn_sig to
-    the batch shell, SIGKILL to the job's process group kill_after s later if it still runs."""
+    the batch shell, SIGKILL to the job's process group kill_after s later if it still runs.
+
+    The ranks are frozen (SIGSTOP) from the moment the limit falls until the batch shell's
+    forwarded SIGUSR1 is pending in every rank, or FREEZE_MAX s (a thread caught by the signal
+    just as it stops runs the handler first, so nothing is pending): a small run on a fast host
+    otherwise finishes the rest of its steps while the signal travels through bash and mpirun
+    (one segment, a failed check). Frozen ranks take the signal at their next step."""
     offset = os.path.getsize(log) if os.path.exists(log) else 0
     with open(log, "a") as out:
         p = subprocess.Popen(["bash", script], env=env, stdout=out, stderr=subprocess.STDOUT,
                              start_new_session=True)
     warned_at = None
     while p.poll() is None:
-        time.sleep(0.05)
+        time.sleep(0.005)
         if warned_at is None:
             with open(log) as f:
                 f.seek(offset)
                 if re.search(r"^step +\d+/", f.read(), re.M):
+                    ranks = job_ranks(p.pid)
+                    for pid in ranks:
+                        try:
+                            os.kill(pid, signal.SIGSTOP)
+                        except ProcessLookupError:
+                            pass
                     os.kill(p.pid, warn_sig)
                     warned_at = time.time()
+                    while not all(usr1_pending(pid) for pid in ranks) \
+                            and time.time() - warned_at < FREEZE_MAX:
+                        time.sleep(0.01)
+                    for pid in ranks:
+                        try:
+                            os.kill(pid, signal.SIGCONT)
+                        except ProcessLookupError:
+                            pass
         elif time.time() - warned_at > kill_after:
             os.killpg(p.pid, signal.SIGKILL)
     return p.wait()
