@@ -69,6 +69,7 @@ const std::vector<std::string>& restart_may_change() {
       "output.*",
       "checkpoint.*",
       "seaweed.metrics_interval",
+      "seaweed.balance.sphere_cost",
       "flock.stats_interval",
       "tree.csv_interval",
       "wind.poisson_options",

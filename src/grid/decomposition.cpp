@@ -71,7 +71,8 @@ Index3 prefer_row_cuts(const Index3& dims, const Index3& cells, const Index3& gi
 }  // namespace
 
 Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
-                             Index3 dims, const GridKeys& keys)
+                             Index3 dims, const GridKeys& keys,
+                             const std::array<std::vector<int>, 3>& starts)
     : global_(global_cells), dims_(dims), periodic_(periodic) {
   int size = 0;
   MPI_Comm_size(comm, &size);
@@ -110,6 +111,23 @@ Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool
   int c[3];
   MPI_Cart_coords(cart_, rank_, 3, c);
   coords_ = {c[0], c[1], c[2]};
+  for (int a = 0; a < 3; ++a) {
+    const auto& given = starts[a];
+    bool ok = given.empty();
+    if (!ok && static_cast<int>(given.size()) == dims_[a] + 1 && given.front() == 0 &&
+        given.back() == global_[a]) {
+      ok = true;
+      for (int i = 0; i < dims_[a]; ++i) ok = ok && given[i] < given[i + 1];
+    }
+    if (!ok)
+      throw std::logic_error("Decomposition: block starts along axis " + std::to_string(a) +
+                             " do not fit the rank grid");
+    if (given.empty())
+      for (int i = 0; i <= dims_[a]; ++i)
+        starts_[a].push_back(block_start(global_[a], dims_[a], i));
+    else
+      starts_[a] = given;
+  }
   box_ = box_of(coords_);
   for (int a = 0; a < 3; ++a) MPI_Cart_shift(cart_, a, 1, &neighbors_[a][0], &neighbors_[a][1]);
 }
@@ -122,13 +140,47 @@ Decomposition::~Decomposition() {
   }
 }
 
+std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight, int parts,
+                                       int min_cells) {
+  const int n = static_cast<int>(plane_weight.size());
+  min_cells = std::clamp(min_cells, 1, std::max(1, n / parts));
+  std::vector<double> prefix(n + 1, 0.0);
+  for (int k = 0; k < n; ++k) prefix[k + 1] = prefix[k] + plane_weight[k];
+  std::vector<int> starts(parts + 1, 0);
+  starts[parts] = n;
+  for (int i = 1; i < parts; ++i) {
+    const double share = prefix[n] * i / parts;
+    int k =
+        static_cast<int>(std::lower_bound(prefix.begin(), prefix.end(), share) - prefix.begin());
+    // Room for the blocks before (at least min_cells each) and after.
+    starts[i] = std::clamp(k, starts[i - 1] + min_cells, n - (parts - i) * min_cells);
+  }
+  return starts;
+}
+
 Box Decomposition::box_of(const Index3& c) const {
   Box b;
   for (int a = 0; a < 3; ++a) {
-    b.lo[a] = block_start(global_[a], dims_[a], c[a]);
-    b.hi[a] = block_start(global_[a], dims_[a], c[a] + 1);
+    b.lo[a] = starts_[a][c[a]];
+    b.hi[a] = starts_[a][c[a] + 1];
   }
   return b;
+}
+
+int Decomposition::block_start_of(int axis, int index) const {
+  return starts_[axis][index];
+}
+
+int Decomposition::block_of(int axis, int cell) const {
+  const auto& s = starts_[axis];
+  const int i = std::clamp(cell, 0, global_[axis] - 1);
+  return static_cast<int>(std::upper_bound(s.begin(), s.end(), i) - s.begin()) - 1;
+}
+
+int Decomposition::thinnest(int axis) const {
+  int t = global_[axis];
+  for (int i = 0; i < dims_[axis]; ++i) t = std::min(t, starts_[axis][i + 1] - starts_[axis][i]);
+  return t;
 }
 
 Index3 Decomposition::wrap(Index3 c) const {
@@ -140,13 +192,7 @@ Index3 Decomposition::wrap(Index3 c) const {
 int Decomposition::owner_of_cell(Index3 cell) const {
   cell = wrap(cell);
   int c[3];
-  for (int a = 0; a < 3; ++a) {
-    int i = cell[a] < 0 ? 0 : (cell[a] >= global_[a] ? global_[a] - 1 : cell[a]);
-    // Invert block_start: blocks of size base+1 first, then base.
-    const int base = global_[a] / dims_[a], rem = global_[a] % dims_[a];
-    const int big = rem * (base + 1);
-    c[a] = i < big ? i / (base + 1) : rem + (i - big) / base;
-  }
+  for (int a = 0; a < 3; ++a) c[a] = block_of(a, cell[a]);
   int r = 0;
   MPI_Cart_rank(cart_, c, &r);
   return r;

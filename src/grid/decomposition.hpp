@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "core/types.hpp"
 
@@ -28,6 +29,12 @@ constexpr int block_start(int n, int parts, int index) {
   return index * base + (index < rem ? index : rem);
 }
 
+/// \brief Block starts (parts + 1 values, 0 to planes.size()) that split the planes along an
+/// axis into `parts` blocks of nearly equal summed weight (each cut at the first plane where the
+/// running sum reaches its share), every block at least `min_cells` planes thick.
+std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight, int parts,
+                                       int min_cells);
+
 /// \brief The deck keys that set a grid's cells, named in the error when the ranks do not fit.
 struct GridKeys {
   std::string source;                ///< deck file (empty: not from a deck)
@@ -46,8 +53,12 @@ class Decomposition {
   /// counts put more ranks than cells on an axis: the most compact rank grid that fits the cells.
   /// \param keys deck keys named in the error message.
   /// \throws core::InputError (the same on every rank) if no rank grid gives each rank a cell.
+  /// \param starts optional cuts per axis: empty (even blocks, block_start) or dims[a] + 1
+  /// increasing cell indices from 0 to global_cells[a], the first cell of each block (a
+  /// load-balanced cut; every rank must pass the same). Learn dims from an even decomposition.
   Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
-                Index3 dims = {0, 0, 0}, const GridKeys& keys = {});
+                Index3 dims = {0, 0, 0}, const GridKeys& keys = {},
+                const std::array<std::vector<int>, 3>& starts = {});
   ~Decomposition();
   Decomposition(const Decomposition&) = delete;
   Decomposition& operator=(const Decomposition&) = delete;
@@ -67,6 +78,12 @@ class Decomposition {
   Box box_of(const Index3& c) const;
   /// \brief Neighbour rank across face (d, side), side 0 = low, 1 = high; MPI_PROC_NULL at a wall.
   int neighbor(int d, int side) const { return neighbors_[d][side]; }
+  /// \brief First cell of block `index` (0..dims[axis]) along `axis`.
+  int block_start_of(int axis, int index) const;
+  /// \brief Block (rank coordinate) along `axis` holding cell `cell` (clamped into the grid).
+  int block_of(int axis, int cell) const;
+  /// \brief Cells of the thinnest block along `axis`.
+  int thinnest(int axis) const;
   /// \brief Rank owning global cell `c` (wrapped on periodic axes).
   int owner_of_cell(Index3 c) const;
   /// \brief Rank owning the point `p` given in cell units (cell i spans [i, i+1)).
@@ -81,6 +98,7 @@ class Decomposition {
   std::array<bool, 3> periodic_;
   Box box_;
   std::array<std::array<int, 2>, 3> neighbors_{};
+  std::array<std::vector<int>, 3> starts_;  ///< dims[a] + 1 block starts per axis
 };
 
 }  // namespace biota::grid

@@ -49,7 +49,7 @@ void check_halo_width(const Decomposition& decomp, int ghosts,
     const int n = decomp.global_cells()[d], dims = decomp.dims()[d];
     // One rank along a periodic axis exchanges with itself: its 2D (1-cell) cases are uniform
     // along that axis, which the self-copy keeps; only distinct neighbours are checked.
-    const int thinnest = n / dims;  // block sizes differ by at most one (decomposition.hpp)
+    const int thinnest = decomp.thinnest(d);
     if (dims == 1 || thinnest >= ghosts) continue;
     throw core::InputError(fmt::format(
         "{} = {} over {} ranks along axis {} ({} ranks in all) gives {}-cell rank blocks, "

@@ -45,11 +45,9 @@ ParticleComm::ParticleComm(const grid::Decomposition& decomp, Real dx, Vec3 orig
 }
 
 int ParticleComm::block_of_cell(int d, Real t) const {
-  const int n = decomp_.global_cells()[d], parts = decomp_.dims()[d];
-  int i = static_cast<int>(std::floor(t));
-  i = i < 0 ? 0 : (i >= n ? n - 1 : i);
-  const int base = n / parts, rem = n % parts, big = rem * (base + 1);
-  return i < big ? i / (base + 1) : rem + (i - big) / base;
+  const int n = decomp_.global_cells()[d];
+  const Real c = std::floor(t);  // clamped as a real first: no overflow far outside
+  return decomp_.block_of(d, c < 0 ? 0 : (c >= n ? n - 1 : static_cast<int>(c)));
 }
 
 int ParticleComm::owner_of(const Vec3& p) const {

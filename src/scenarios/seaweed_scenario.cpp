@@ -37,15 +37,44 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
              "minimum distance between seeds");
   s.add_bool("seaweed.two_way", true, "plants act back on the water (false: the paper's one-way)");
   s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
+  s.add_real("seaweed.balance.sphere_cost", 50.0, 0.0, 1e6, "LBM cells",
+             "work of one sphere's physics step as the number of fluid cells whose physics step "
+             "costs the same; weights the cut between the ranks' blocks (0: equal cells)");
   s.add_int("seaweed.metrics_interval", 6, 1, 1'000'000'000, "physics steps between metric rows");
 }
 
 SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& cfg = ctx.config;
   auto params = solvers::lbm::LbmParams::from_config(cfg);
+  const grid::GridKeys keys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}};
+  // The plants are grown first (the same on every rank, from the deck alone): their spheres
+  // weight the cut between the ranks' blocks.
+  auto gp = mp::GrowthParams::from_config(cfg);
+  const Vec3 L{params.cells.x * params.dx, params.cells.y * params.dx, params.cells.z * params.dx};
+  gp.env_centre = L * 0.5;
+  gp.env_radius = cfg.get_real("growth.env_radius");
+  n_plants_ = static_cast<int>(cfg.get_int("seaweed.plants"));
+  const auto& lo = cfg.get_real_list("seaweed.placement.lo");
+  const auto& hi = cfg.get_real_list("seaweed.placement.hi");
+  for (int d = 0; d < 3; ++d)
+    if (!(lo[d] >= 0 && lo[d] <= hi[d] && hi[d] <= L[d]))  // lo == hi: plant at a point
+      cfg.fail("seaweed.placement.lo",
+               fmt::format("and seaweed.placement.hi = [{}, {}, {}] do not give a box inside the "
+                           "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
+                           "with lo <= hi on every axis",
+                           hi[0], hi[1], hi[2], L[0], L[1], L[2]));
+  auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
+                               cfg.get_real("seaweed.placement.min_spacing"));
+  auto mpar = mp::MechanicsParams::from_config(cfg);
+  mp::Population pop;
+  {
+    auto scope = ctx_.timers.scope("growth");
+    pop = mp::grow_population(gp, seeds);
+  }
   decomp_ = std::make_unique<grid::Decomposition>(
-      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
-      grid::GridKeys{cfg.source(), {"lbm.nx", "lbm.ny", "lbm.nz"}});
+      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0}, keys,
+      balanced_block_starts(ctx.comm, params, keys, pop, mpar.spacing,
+                            cfg.get_real("seaweed.balance.sphere_cost")));
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
@@ -64,23 +93,6 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
   coupling_ = std::make_unique<coupling::TrilinearCoupling>(*decomp_, dx);
 
-  auto gp = mp::GrowthParams::from_config(cfg);
-  const Vec3 L = pcomm_->domain_hi();
-  gp.env_centre = L * 0.5;
-  gp.env_radius = cfg.get_real("growth.env_radius");
-  n_plants_ = static_cast<int>(cfg.get_int("seaweed.plants"));
-  const auto& lo = cfg.get_real_list("seaweed.placement.lo");
-  const auto& hi = cfg.get_real_list("seaweed.placement.hi");
-  for (int d = 0; d < 3; ++d)
-    if (!(lo[d] >= 0 && lo[d] <= hi[d] && hi[d] <= L[d]))  // lo == hi: plant at a point
-      cfg.fail("seaweed.placement.lo",
-               fmt::format("and seaweed.placement.hi = [{}, {}, {}] do not give a box inside the "
-                           "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
-                           "with lo <= hi on every axis",
-                           hi[0], hi[1], hi[2], L[0], L[1], L[2]));
-  auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
-                               cfg.get_real("seaweed.placement.min_spacing"));
-  auto mpar = mp::MechanicsParams::from_config(cfg);
   const double wdt = mpar.omega_max() * dt_ / mpar.substeps;
   if (wdt > 1.8)
     cfg.fail("seaweed.substeps",
@@ -88,7 +100,6 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   bodies_ = std::make_unique<mp::SeaweedBodies>(*pcomm_, mpar);
   {
     auto scope = ctx_.timers.scope("growth");
-    auto pop = mp::grow_population(gp, seeds);
     bodies_->build(pop, n_plants_);
   }
   const long long n = bodies_->global_count();
@@ -108,8 +119,16 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
   check_particle_halo(mpar, dx);
   if (decomp_->rank() == 0) {
-    fmt::print("{}\ndecomposition: {} x {} x {} ranks\n", lbm_->units().summary(),
-               decomp_->dims().x, decomp_->dims().y, decomp_->dims().z);
+    std::string cuts;
+    for (int a = 0; a < 3; ++a)
+      if (decomp_->dims()[a] > 1) {
+        cuts += fmt::format("{}{} blocks", cuts.empty() ? ", " : "; ", "xyz"[a]);
+        for (int i = 0; i < decomp_->dims()[a]; ++i)
+          cuts +=
+              fmt::format(" {}", decomp_->block_start_of(a, i + 1) - decomp_->block_start_of(a, i));
+      }
+    fmt::print("{}\ndecomposition: {} x {} x {} ranks{}\n", lbm_->units().summary(),
+               decomp_->dims().x, decomp_->dims().y, decomp_->dims().z, cuts);
     fmt::print(
         "seaweed: {} plants, {} spheres, growth cycles {}, {} LBM steps per physics step, "
         "omega_max*dt_sub = {:.2f}, coupling {}\n",
@@ -127,6 +146,37 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
       fmt::print("memory: seaweed spheres {:.3g} kB on the fullest rank (owned + ghosts)\n",
                  most / 1e3);
   }
+}
+
+std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
+    MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
+    const models::plants::Population& pop, double spacing, double sphere_cost) {
+  std::array<std::vector<int>, 3> starts;
+  if (sphere_cost <= 0) return starts;
+  // The rank grid an even decomposition picks (collective; its errors are the ones the user
+  // gets), then per cut axis the cells and sphere weight of each plane of cells.
+  const grid::Decomposition even(comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
+                                 keys);
+  std::array<std::vector<double>, 3> weight;
+  for (int a = 0; a < 3; ++a)
+    if (even.dims()[a] > 1)
+      weight[a].assign(params.cells[a], double(params.cells.product()) / params.cells[a]);
+  mp::for_each_sphere(
+      pop, spacing, [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) {
+        for (int a = 0; a < 3; ++a)
+          if (!weight[a].empty()) {
+            const double c = std::floor(x[a] / params.dx);
+            weight[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] +=
+                sphere_cost;
+          }
+      });
+  for (int a = 0; a < 3; ++a)
+    if (!weight[a].empty())
+      // At least half an even block: the halos and the particle ghost layer stay as thin as
+      // the checks allow for even blocks.
+      starts[a] = grid::weighted_block_starts(weight[a], even.dims()[a],
+                                              params.cells[a] / even.dims()[a] / 2);
+  return starts;
 }
 
 void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {

@@ -44,45 +44,52 @@ Col3 cols3(const ParticleSet& s, int a) {
 }
 }  // namespace
 
-void SeaweedBodies::build(const Population& pop, int n_plants) {
-  n_plants_ = n_plants;
-  const int me = comm_.decomposition().rank();
+void for_each_sphere(
+    const Population& pop, Real spacing,
+    const std::function<void(std::uint64_t, const Vec3&, int, std::uint64_t, const Vec3&)>& fn) {
   std::vector<GlobalId> bud_sphere(pop.buds.size(), kNoId);
   GlobalId next = 0;
-  auto add = [&](GlobalId id, const Vec3& x, int plant, GlobalId parent, const Vec3& parent_x) {
-    if (comm_.owner_of(x) != me) return;
-    const std::size_t i = set_.add_owned(id, x);
-    set_q(set_, a_quat, i, {});
-    set_q(set_, a_qrest, i, {});
-    set_.real(a_radius)[i] = p_.radius;
-    set_.u64(u_plant)[i] = static_cast<std::uint64_t>(plant);
-    set_.u64(u_parent)[i] = parent;
-    if (parent != kNoId) {
-      longest_bond_local_ = std::max(longest_bond_local_, core::norm(x - parent_x));
-      // Joint anchor at the midpoint; all spheres start with the identity orientation.
-      set_.set_vec3(a_anchor_c, i, (parent_x - x) * 0.5);
-      set_.set_vec3(a_anchor_p, i, (x - parent_x) * 0.5);
-    }
-  };
   for (const Bud& b : pop.buds) {
     if (b.parent == ~GlobalId{0}) {
       bud_sphere[b.id] = next;
-      add(next++, b.pos, b.plant, kNoId, {});
+      fn(next++, b.pos, b.plant, kNoId, {});
       continue;
     }
     const Vec3 a = pop.buds[b.parent].pos, d = b.pos - a;
-    const int segments =
-        std::max(1, static_cast<int>(std::ceil(core::norm(d) / p_.spacing - 1e-9)));
+    const int segments = std::max(1, static_cast<int>(std::ceil(core::norm(d) / spacing - 1e-9)));
     GlobalId prev = bud_sphere[b.parent];
     Vec3 prev_x = a;
     for (int k = 1; k <= segments; ++k) {
       const Vec3 x = a + d * (static_cast<Real>(k) / segments);
-      add(next, x, b.plant, prev, prev_x);
+      fn(next, x, b.plant, prev, prev_x);
       prev = next++;
       prev_x = x;
     }
     bud_sphere[b.id] = prev;
   }
+}
+
+void SeaweedBodies::build(const Population& pop, int n_plants) {
+  n_plants_ = n_plants;
+  const int me = comm_.decomposition().rank();
+  for_each_sphere(
+      pop, p_.spacing,
+      [&](GlobalId id, const Vec3& x, int plant, GlobalId parent, const Vec3& parent_x) {
+        if (comm_.owner_of(x) != me) return;
+        const std::size_t i = set_.add_owned(id, x);
+        set_q(set_, a_quat, i, {});
+        set_q(set_, a_qrest, i, {});
+        set_.real(a_radius)[i] = p_.radius;
+        set_.u64(u_plant)[i] = static_cast<std::uint64_t>(plant);
+        set_.u64(u_parent)[i] = parent;
+        if (parent != kNoId) {
+          longest_bond_local_ = std::max(longest_bond_local_, core::norm(x - parent_x));
+          // Joint anchor at the midpoint; all spheres start with the identity
+          // orientation.
+          set_.set_vec3(a_anchor_c, i, (parent_x - x) * 0.5);
+          set_.set_vec3(a_anchor_p, i, (x - parent_x) * 0.5);
+        }
+      });
 }
 
 long long SeaweedBodies::global_count() const {

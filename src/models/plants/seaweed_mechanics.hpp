@@ -65,6 +65,13 @@ struct ClusterMetrics {
   long long skipped_joints = 0;
 };
 
+/// \brief Visit the spheres a population is built of, in global-id order: a sphere on every
+/// root bud and `spacing`-spaced spheres along every branch. fn(id, x, plant, parent id or
+/// kNoId, parent position).
+void for_each_sphere(
+    const Population& pop, Real spacing,
+    const std::function<void(std::uint64_t, const Vec3&, int, std::uint64_t, const Vec3&)>& fn);
+
 /// \brief The seaweed population as rigid spheres.
 class SeaweedBodies {
  public:

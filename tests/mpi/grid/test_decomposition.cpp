@@ -34,6 +34,48 @@ TEST(Decomposition, BoxesTileTheDomainExactlyOnce) {
   }
 }
 
+TEST(WeightedBlockStarts, EqualSumsAndMinimumThickness) {
+  // Uniform weight: the even split's sizes (cut at the first plane reaching the share).
+  EXPECT_EQ(weighted_block_starts(std::vector<double>(10, 1.0), 2, 1),
+            (std::vector<int>{0, 5, 10}));
+  // All the weight in planes 0-1 of 10: cut after them, 2 planes vs 8.
+  std::vector<double> w(10, 0.0);
+  w[0] = w[1] = 1;
+  EXPECT_EQ(weighted_block_starts(w, 2, 1), (std::vector<int>{0, 1, 10}));
+  // ... unless blocks must be 3 planes thick.
+  EXPECT_EQ(weighted_block_starts(w, 2, 3), (std::vector<int>{0, 3, 10}));
+  // Three parts, each block at least one plane even when one plane holds everything.
+  std::vector<double> spike(9, 0.0);
+  spike[8] = 1;
+  EXPECT_EQ(weighted_block_starts(spike, 3, 1), (std::vector<int>{0, 7, 8, 9}));
+}
+
+TEST(Decomposition, GivenBlockStartsTileTheDomainAndMatchOwners) {
+  const Index3 n{11, 40, 6};
+  Decomposition even(MPI_COMM_WORLD, n, {false, false, false});
+  std::array<std::vector<int>, 3> starts;
+  for (int a = 0; a < 3; ++a) {
+    if (even.dims()[a] == 1) continue;
+    std::vector<double> w(n[a], 1.0);
+    for (int k = 0; k < n[a] / 4; ++k) w[k] = 10;  // heavy low quarter: thinner low blocks
+    starts[a] = weighted_block_starts(w, even.dims()[a], 2);
+  }
+  Decomposition d(MPI_COMM_WORLD, n, {false, false, false}, {0, 0, 0}, {}, starts);
+  long long local = d.local_cells().product(), total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(total, n.product());
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i)
+        ASSERT_EQ(d.owner_of_cell({i, j, k}) == d.rank(), d.local_box().contains({i, j, k}));
+  for (int a = 0; a < 3; ++a) {
+    if (d.dims()[a] == 1) continue;
+    EXPECT_LT(d.block_start_of(a, 1), block_start(n[a], d.dims()[a], 1)) << "axis " << a;
+    EXPECT_GE(d.thinnest(a), 2);
+    for (int i = 0; i < d.dims()[a]; ++i) EXPECT_EQ(d.block_of(a, d.block_start_of(a, i)), i);
+  }
+}
+
 TEST(Decomposition, NeighboursAreMutual) {
   Decomposition d(MPI_COMM_WORLD, {30, 20, 10}, {true, false, true});
   for (int a = 0; a < 3; ++a) {
