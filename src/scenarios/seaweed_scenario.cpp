@@ -74,7 +74,8 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0}, keys,
       balanced_block_starts(ctx.comm, params, keys, pop, mpar.spacing,
-                            cfg.get_real("seaweed.balance.sphere_cost")));
+                            cfg.get_real("seaweed.balance.sphere_cost"),
+                            1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx))));
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
@@ -150,7 +151,7 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
 
 std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
     MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-    const models::plants::Population& pop, double spacing, double sphere_cost) {
+    const models::plants::Population& pop, double spacing, double sphere_cost, int min_cells) {
   std::array<std::vector<int>, 3> starts;
   if (sphere_cost <= 0) return starts;
   // The rank grid an even decomposition picks (collective; its errors are the ones the user
@@ -172,10 +173,11 @@ std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
       });
   for (int a = 0; a < 3; ++a)
     if (!weight[a].empty())
-      // At least half an even block: the halos and the particle ghost layer stay as thin as
-      // the checks allow for even blocks.
-      starts[a] = grid::weighted_block_starts(weight[a], even.dims()[a],
-                                              params.cells[a] / even.dims()[a] / 2);
+      // At least half an even block and the particle ghost layer (never thinner than an even
+      // block, which weighted_block_starts caps it at): a deck that runs with even blocks
+      // passes the halo and ghost-width checks with these too.
+      starts[a] = grid::weighted_block_starts(
+          weight[a], even.dims()[a], std::max(min_cells, params.cells[a] / even.dims()[a] / 2));
   return starts;
 }
 

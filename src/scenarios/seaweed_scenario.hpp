@@ -51,11 +51,11 @@ class SeaweedScenario : public Scenario {
   void open_csv();
   void check_spheres_finite();
   void check_particle_halo(const models::plants::MechanicsParams& mpar, double dx);
-  /// Block starts that balance fluid cells plus sphere_cost per sphere over the ranks (empty:
-  /// even blocks when sphere_cost is 0).
+  /// Block starts that balance fluid cells plus sphere_cost per sphere over the ranks, blocks
+  /// at least min_cells thick where even blocks are (empty: even blocks when sphere_cost is 0).
   static std::array<std::vector<int>, 3> balanced_block_starts(
       MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-      const models::plants::Population& pop, double spacing, double sphere_cost);
+      const models::plants::Population& pop, double spacing, double sphere_cost, int min_cells);
   long long last_broken_total();
   /// \brief Owned cells whose velocity the next step's sampling reads (directly or as a
   /// neighbour's ghosts): local boxes for LbmSolver::update_macroscopic.

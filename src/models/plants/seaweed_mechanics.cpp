@@ -99,9 +99,7 @@ long long SeaweedBodies::global_count() const {
 }
 
 Real SeaweedBodies::ghost_cutoff() const {
-  const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
-  const Real bond_range = 2 * p_.spacing + p_.skin;
-  return std::max(contact_range, bond_range);
+  return p_.ghost_cutoff();
 }
 
 Real SeaweedBodies::longest_bond() const {

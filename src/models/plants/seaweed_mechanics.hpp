@@ -51,6 +51,9 @@ struct MechanicsParams {
   Real inertia() const;
   /// \brief Largest angular frequency of the explicit scheme's stiff modes [rad/s].
   Real omega_max() const;
+  /// \brief Reach of an interaction (contact range or joint, plus the skin): the particle ghost
+  /// layer's width [m].
+  Real ghost_cutoff() const;
 };
 
 /// \brief Entanglement metrics of one instant (identical on every rank).

@@ -68,6 +68,10 @@ Real MechanicsParams::mass() const {
 Real MechanicsParams::inertia() const {
   return 0.4 * mass() * radius * radius;
 }
+Real MechanicsParams::ghost_cutoff() const {
+  return std::max(2 * radius + cluster_margin + skin, 2 * spacing + skin);
+}
+
 Real MechanicsParams::omega_max() const {
   // A sphere in a chain has two joints and at most ~12 contacts; each joint spring also acts on
   // the rotation through the anchor lever r (k r^2 / I = 2.5 k / m).
