@@ -70,39 +70,36 @@ Index3 prefer_row_cuts(const Index3& dims, const Index3& cells, const Index3& gi
 
 }  // namespace
 
+Index3 Decomposition::rank_grid(int size, Index3 cells, Index3 dims, const GridKeys& keys) {
+  int d[3] = {dims.x, dims.y, dims.z};
+  MPI_Dims_create(size, 3, d);
+  const Index3 mpi{d[0], d[1], d[2]};
+  if (fits(mpi, cells)) return prefer_row_cuts(mpi, cells, dims);
+  // MPI_Dims_create ignores the cells (8 ranks on 64 x 64 x 1 gives 2 x 2 x 2).
+  const Index3 alt = compact_fitting_dims(size, cells, dims);
+  if (alt.x != 0) return alt;
+  // Every rank reaches this with the same numbers; only rank 0 prints InputErrors.
+  std::string names;
+  for (int a = 0; a < 3; ++a)
+    names +=
+        (a ? ", " : "") + (keys.cells[a].empty() ? std::string("xyz").substr(a, 1) : keys.cells[a]);
+  throw core::InputError((keys.source.empty() ? std::string("decomposition") : keys.source) + ": " +
+                         names + " = " + std::to_string(cells.x) + " x " + std::to_string(cells.y) +
+                         " x " + std::to_string(cells.z) + " cells cannot be split over " +
+                         std::to_string(size) + " MPI ranks (every rank grid of " +
+                         std::to_string(size) + " ranks, e.g. " + std::to_string(mpi.x) + " x " +
+                         std::to_string(mpi.y) + " x " + std::to_string(mpi.z) +
+                         ", puts more ranks than cells on an axis); use fewer ranks or more cells");
+}
+
 Decomposition::Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
                              Index3 dims, const GridKeys& keys,
                              const std::array<std::vector<int>, 3>& starts)
-    : global_(global_cells), dims_(dims), periodic_(periodic) {
+    : global_(global_cells), periodic_(periodic) {
   int size = 0;
   MPI_Comm_size(comm, &size);
-  int d[3] = {dims.x, dims.y, dims.z};
-  MPI_Dims_create(size, 3, d);
-  dims_ = {d[0], d[1], d[2]};
-  if (fits(dims_, global_)) {
-    dims_ = prefer_row_cuts(dims_, global_, dims);
-    d[0] = dims_.x, d[1] = dims_.y, d[2] = dims_.z;
-  } else {
-    // MPI_Dims_create ignores the cells (8 ranks on 64 x 64 x 1 gives 2 x 2 x 2).
-    const Index3 alt = compact_fitting_dims(size, global_, dims);
-    if (alt.x == 0) {
-      // Every rank reaches this with the same numbers; only rank 0 prints InputErrors.
-      std::string names;
-      for (int a = 0; a < 3; ++a)
-        names += (a ? ", " : "") +
-                 (keys.cells[a].empty() ? std::string("xyz").substr(a, 1) : keys.cells[a]);
-      throw core::InputError(
-          (keys.source.empty() ? std::string("decomposition") : keys.source) + ": " + names +
-          " = " + std::to_string(global_.x) + " x " + std::to_string(global_.y) + " x " +
-          std::to_string(global_.z) + " cells cannot be split over " + std::to_string(size) +
-          " MPI ranks (every rank grid of " + std::to_string(size) + " ranks, e.g. " +
-          std::to_string(dims_.x) + " x " + std::to_string(dims_.y) + " x " +
-          std::to_string(dims_.z) +
-          ", puts more ranks than cells on an axis); use fewer ranks or more cells");
-    }
-    dims_ = alt;
-    d[0] = alt.x, d[1] = alt.y, d[2] = alt.z;
-  }
+  dims_ = rank_grid(size, global_, dims, keys);
+  int d[3] = {dims_.x, dims_.y, dims_.z};
   int per[3] = {periodic[0], periodic[1], periodic[2]};
   // reorder = 0: the rank order of the input communicator is kept, so rank 0 stays rank 0.
   MPI_Cart_create(comm, 3, d, per, 0, &cart_);

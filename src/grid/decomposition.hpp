@@ -55,10 +55,14 @@ class Decomposition {
   /// \throws core::InputError (the same on every rank) if no rank grid gives each rank a cell.
   /// \param starts optional cuts per axis: empty (even blocks, block_start) or dims[a] + 1
   /// increasing cell indices from 0 to global_cells[a], the first cell of each block (a
-  /// load-balanced cut; every rank must pass the same). Learn dims from an even decomposition.
+  /// load-balanced cut; every rank must pass the same). rank_grid() gives the dims first.
   Decomposition(MPI_Comm comm, Index3 global_cells, std::array<bool, 3> periodic,
                 Index3 dims = {0, 0, 0}, const GridKeys& keys = {},
                 const std::array<std::vector<int>, 3>& starts = {});
+  /// \brief The rank grid the constructor picks for `size` ranks (see above; no MPI calls but
+  /// MPI_Dims_create). \throws core::InputError if none gives each rank a cell.
+  static Index3 rank_grid(int size, Index3 cells, Index3 dims = {0, 0, 0},
+                          const GridKeys& keys = {});
   ~Decomposition();
   Decomposition(const Decomposition&) = delete;
   Decomposition& operator=(const Decomposition&) = delete;

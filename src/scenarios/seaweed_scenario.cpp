@@ -154,13 +154,14 @@ std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
     const models::plants::Population& pop, double spacing, double sphere_cost, int min_cells) {
   std::array<std::vector<int>, 3> starts;
   if (sphere_cost <= 0) return starts;
-  // The rank grid an even decomposition picks (collective; its errors are the ones the user
-  // gets), then per cut axis the cells and sphere weight of each plane of cells.
-  const grid::Decomposition even(comm, params.cells, params.periodic(), core::Index3{0, 0, 0},
-                                 keys);
+  // The rank grid the decomposition will pick (its errors are the ones the user gets), then
+  // per cut axis the cells and sphere weight of each plane of cells.
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
   std::array<std::vector<double>, 3> weight;
   for (int a = 0; a < 3; ++a)
-    if (even.dims()[a] > 1)
+    if (dims[a] > 1)
       weight[a].assign(params.cells[a], double(params.cells.product()) / params.cells[a]);
   mp::for_each_sphere(
       pop, spacing, [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) {
@@ -176,8 +177,8 @@ std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
       // At least half an even block and the particle ghost layer (never thinner than an even
       // block, which weighted_block_starts caps it at): a deck that runs with even blocks
       // passes the halo and ghost-width checks with these too.
-      starts[a] = grid::weighted_block_starts(
-          weight[a], even.dims()[a], std::max(min_cells, params.cells[a] / even.dims()[a] / 2));
+      starts[a] = grid::weighted_block_starts(weight[a], dims[a],
+                                              std::max(min_cells, params.cells[a] / dims[a] / 2));
   return starts;
 }
 

@@ -68,6 +68,7 @@ Real MechanicsParams::mass() const {
 Real MechanicsParams::inertia() const {
   return 0.4 * mass() * radius * radius;
 }
+
 Real MechanicsParams::ghost_cutoff() const {
   return std::max(2 * radius + cluster_margin + skin, 2 * spacing + skin);
 }

@@ -32,7 +32,6 @@ def final_pieces(run_dir):
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    tmp = os.environ.get("KEEP_TMP", tmp)
     ref = os.path.join(tmp, "ref")
     p = subprocess.run([MPIEXEC, "-n", "2", BIOTA, "run", os.path.join(SRC, "input", "tank.toml")]
                        + SETS + ["--set", f"output.dir={ref}", "--set", f"checkpoint.dir={ref}/ck"],
