@@ -70,6 +70,7 @@ const std::vector<std::string>& restart_may_change() {
       "checkpoint.*",
       "seaweed.metrics_interval",
       "seaweed.balance.sphere_cost",
+      "seaweed.balance.rank_speed",
       "flock.stats_interval",
       "tree.csv_interval",
       "wind.poisson_options",

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -139,20 +140,44 @@ Decomposition::~Decomposition() {
 
 std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight, int parts,
                                        int min_cells) {
+  return weighted_block_starts(plane_weight, std::vector<double>(parts, 1.0), min_cells);
+}
+
+std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight,
+                                       const std::vector<double>& capacity, int min_cells) {
   const int n = static_cast<int>(plane_weight.size());
+  const int parts = static_cast<int>(capacity.size());
   min_cells = std::clamp(min_cells, 1, std::max(1, n / parts));
   std::vector<double> prefix(n + 1, 0.0);
   for (int k = 0; k < n; ++k) prefix[k + 1] = prefix[k] + plane_weight[k];
+  double total_capacity = 0;
+  for (double c : capacity) total_capacity += c;
   std::vector<int> starts(parts + 1, 0);
   starts[parts] = n;
+  double capacity_before = 0;  // of the blocks before cut i
   for (int i = 1; i < parts; ++i) {
-    const double share = prefix[n] * i / parts;
+    capacity_before += capacity[i - 1];
+    const double share = prefix[n] * capacity_before / total_capacity;
     int k =
         static_cast<int>(std::lower_bound(prefix.begin(), prefix.end(), share) - prefix.begin());
     // Room for the blocks before (at least min_cells each) and after.
     starts[i] = std::clamp(k, starts[i - 1] + min_cells, n - (parts - i) * min_cells);
   }
   return starts;
+}
+
+std::array<std::vector<double>, 3> block_capacities(const Index3& dims,
+                                                    const std::vector<double>& rank_speed) {
+  std::array<std::vector<double>, 3> capacity;
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] > 1) capacity[a].assign(dims[a], std::numeric_limits<double>::infinity());
+  for (int r = 0; r < static_cast<int>(rank_speed.size()); ++r) {
+    // MPI_Cart_create without reorder numbers ranks row-major (the last axis fastest).
+    const int c[3] = {r / (dims.y * dims.z), (r / dims.z) % dims.y, r % dims.z};
+    for (int a = 0; a < 3; ++a)
+      if (!capacity[a].empty()) capacity[a][c[a]] = std::min(capacity[a][c[a]], rank_speed[r]);
+  }
+  return capacity;
 }
 
 Box Decomposition::box_of(const Index3& c) const {

@@ -35,6 +35,18 @@ constexpr int block_start(int n, int parts, int index) {
 std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight, int parts,
                                        int min_cells);
 
+/// \brief As above, for blocks of unequal capacity: block i gets the share capacity[i] / (sum of
+/// all capacities) of the summed weight (e.g. a rank's measured speed, so a slower core gets
+/// fewer planes). Equal capacities give the cuts of the overload above, bit for bit.
+std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight,
+                                       const std::vector<double>& capacity, int min_cells);
+
+/// \brief Per axis, the capacity of each block of the rank grid `dims` for weighted_block_starts,
+/// from the speed of every rank (ranks in the row-major order Decomposition lays them out): the
+/// slowest rank of a slab of blocks sets the slab's pace. Axes with one block get no entry.
+std::array<std::vector<double>, 3> block_capacities(const Index3& dims,
+                                                    const std::vector<double>& rank_speed);
+
 /// \brief The deck keys that set a grid's cells, named in the error when the ranks do not fit.
 struct GridKeys {
   std::string source;                ///< deck file (empty: not from a deck)

@@ -16,6 +16,7 @@
 #include "io/particle_output.hpp"
 #include "models/plants/ulva_growth.hpp"
 #include "scenarios/lbm_output.hpp"
+#include "solvers/lbm/rank_speed.hpp"
 
 namespace biota::scenarios {
 
@@ -40,6 +41,9 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("seaweed.balance.sphere_cost", 50.0, 0.0, 1e6, "LBM cells",
              "work of one sphere's physics step as the number of fluid cells whose physics step "
              "costs the same; weights the cut between the ranks' blocks (0: equal cells)");
+  s.add_bool("seaweed.balance.rank_speed", true,
+             "time every rank at the LBM sweep at start-up (~0.3 s) and give slower cores fewer "
+             "cells (false: all ranks count as equally fast)");
   s.add_int("seaweed.metrics_interval", 6, 1, 1'000'000'000, "physics steps between metric rows");
 }
 
@@ -71,10 +75,12 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     auto scope = ctx_.timers.scope("growth");
     pop = mp::grow_population(gp, seeds);
   }
+  if (cfg.get_bool("seaweed.balance.rank_speed"))
+    rank_speed_ = solvers::lbm::measure_rank_speeds(ctx.comm, params);
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0}, keys,
       balanced_block_starts(ctx.comm, params, keys, pop, mpar.spacing,
-                            cfg.get_real("seaweed.balance.sphere_cost"),
+                            cfg.get_real("seaweed.balance.sphere_cost"), rank_speed_,
                             1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx))));
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
@@ -128,6 +134,10 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
           cuts +=
               fmt::format(" {}", decomp_->block_start_of(a, i + 1) - decomp_->block_start_of(a, i));
       }
+    if (!rank_speed_.empty()) {
+      cuts += "; rank speeds";
+      for (double v : rank_speed_) cuts += fmt::format(" {:.2f}", v);
+    }
     fmt::print("{}\ndecomposition: {} x {} x {} ranks{}\n", lbm_->units().summary(),
                decomp_->dims().x, decomp_->dims().y, decomp_->dims().z, cuts);
     fmt::print(
@@ -151,9 +161,10 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
 
 std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
     MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-    const models::plants::Population& pop, double spacing, double sphere_cost, int min_cells) {
+    const models::plants::Population& pop, double spacing, double sphere_cost,
+    const std::vector<double>& rank_speed, int min_cells) {
   std::array<std::vector<int>, 3> starts;
-  if (sphere_cost <= 0) return starts;
+  if (sphere_cost <= 0 && rank_speed.empty()) return starts;
   // The rank grid the decomposition will pick (its errors are the ones the user gets), then
   // per cut axis the cells and sphere weight of each plane of cells.
   int size = 0;
@@ -163,21 +174,24 @@ std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
   for (int a = 0; a < 3; ++a)
     if (dims[a] > 1)
       weight[a].assign(params.cells[a], double(params.cells.product()) / params.cells[a]);
-  mp::for_each_sphere(
-      pop, spacing, [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) {
-        for (int a = 0; a < 3; ++a)
-          if (!weight[a].empty()) {
-            const double c = std::floor(x[a] / params.dx);
-            weight[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] +=
-                sphere_cost;
-          }
-      });
+  if (sphere_cost > 0)
+    mp::for_each_sphere(
+        pop, spacing, [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) {
+          for (int a = 0; a < 3; ++a)
+            if (!weight[a].empty()) {
+              const double c = std::floor(x[a] / params.dx);
+              weight[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] +=
+                  sphere_cost;
+            }
+        });
+  const auto capacity = grid::block_capacities(
+      dims, rank_speed.empty() ? std::vector<double>(size, 1.0) : rank_speed);
   for (int a = 0; a < 3; ++a)
     if (!weight[a].empty())
       // At least half an even block and the particle ghost layer (never thinner than an even
       // block, which weighted_block_starts caps it at): a deck that runs with even blocks
       // passes the halo and ghost-width checks with these too.
-      starts[a] = grid::weighted_block_starts(weight[a], dims[a],
+      starts[a] = grid::weighted_block_starts(weight[a], capacity[a],
                                               std::max(min_cells, params.cells[a] / dims[a] / 2));
   return starts;
 }

@@ -50,6 +50,32 @@ TEST(WeightedBlockStarts, EqualSumsAndMinimumThickness) {
   EXPECT_EQ(weighted_block_starts(spike, 3, 1), (std::vector<int>{0, 7, 8, 9}));
 }
 
+TEST(WeightedBlockStarts, CapacitiesSplitTheWeightInProportion) {
+  const std::vector<double> uniform(100, 1.0);
+  // Equal capacities: the bits of the equal-parts overload.
+  EXPECT_EQ(weighted_block_starts(uniform, {0.5, 0.5, 0.5}, 1),
+            weighted_block_starts(uniform, 3, 1));
+  // A core at half the speed of the other gets a third of the planes.
+  EXPECT_EQ(weighted_block_starts(uniform, {1.0, 0.5}, 1), (std::vector<int>{0, 67, 100}));
+  EXPECT_EQ(weighted_block_starts(uniform, {0.5, 1.0}, 1), (std::vector<int>{0, 34, 100}));
+  // ... but never below the minimum thickness.
+  EXPECT_EQ(weighted_block_starts(uniform, {1.0, 0.01}, 25), (std::vector<int>{0, 75, 100}));
+}
+
+TEST(BlockCapacities, SlowestRankOfASlabSetsItsPace) {
+  // 2 x 3 x 1 rank grid, row-major ranks: rank r has coords (r / 3, r % 3, 0).
+  const std::vector<double> speed{1.0, 0.5, 1.0, 0.9, 1.0, 0.7};
+  const auto cap = block_capacities({2, 3, 1}, speed);
+  EXPECT_EQ(cap[0], (std::vector<double>{0.5, 0.7}));
+  EXPECT_EQ(cap[1], (std::vector<double>{0.9, 0.5, 0.7}));
+  EXPECT_TRUE(cap[2].empty());
+  // The layout assumed above is the one Decomposition gets from MPI_Cart_create.
+  Decomposition d(MPI_COMM_WORLD, {12, 12, 12}, {false, false, false});
+  const Index3 n = d.dims();
+  const Index3 c = d.coords();
+  EXPECT_EQ(d.rank(), (c.x * n.y + c.y) * n.z + c.z);
+}
+
 TEST(Decomposition, GivenBlockStartsTileTheDomainAndMatchOwners) {
   const Index3 n{11, 40, 6};
   Decomposition even(MPI_COMM_WORLD, n, {false, false, false});
@@ -83,8 +109,12 @@ TEST(Decomposition, NeighboursAreMutual) {
     int mine = d.rank(), from_low = -2;
     MPI_Sendrecv(&mine, 1, MPI_INT, d.neighbor(a, 1), 0, &from_low, 1, MPI_INT, d.neighbor(a, 0), 0,
                  d.comm(), MPI_STATUS_IGNORE);
-    if (d.neighbor(a, 0) != MPI_PROC_NULL) EXPECT_EQ(from_low, d.neighbor(a, 0));
-    if (!d.periodic(a) && d.coords()[a] == 0) EXPECT_EQ(d.neighbor(a, 0), MPI_PROC_NULL);
+    if (d.neighbor(a, 0) != MPI_PROC_NULL) {
+      EXPECT_EQ(from_low, d.neighbor(a, 0));
+    }
+    if (!d.periodic(a) && d.coords()[a] == 0) {
+      EXPECT_EQ(d.neighbor(a, 0), MPI_PROC_NULL);
+    }
   }
 }
 
