@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "grid/field.hpp"
 #include "solvers/lbm/lattice.hpp"
 #include "solvers/lbm/lbm_solver.hpp"
+#include "solvers/lbm/rank_speed.hpp"
 #include "solvers/lbm/stream_collide.hpp"
 
 namespace biota::app {
@@ -132,11 +134,36 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   // The cases' decomposition (walls on every face), printed because the split axis decides how
   // contiguous the halo is.
   const grid::Decomposition layout(comm, {opts.size, opts.size, opts.size}, {false, false, false});
+  // --balance-speed: blocks in proportion to the ranks' sweep speed, measured once here.
+  std::array<std::vector<int>, 3> starts;
+  std::vector<double> speed;
+  if (opts.balance_speed) {
+    solvers::lbm::LbmParams probe;
+    probe.lattice = "D3Q19";
+    probe.cells = {opts.size, opts.size, opts.size};
+    speed = solvers::lbm::measure_rank_speeds(comm, probe);
+    const auto capacity = grid::block_capacities(layout.dims(), speed);
+    for (int a = 0; a < 3; ++a)
+      if (layout.dims()[a] > 1)
+        starts[a] = grid::weighted_block_starts(std::vector<double>(opts.size, 1.0), capacity[a],
+                                                opts.size / layout.dims()[a] / 2);
+  }
   if (rank == 0) {
     fmt::print("biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case\n",
                opts.size, size, layout.dims().x, layout.dims().y, layout.dims().z, opts.steps);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
     if (!opts.overlap) fmt::print("halo exchange not overlapped with the sweep (--no-overlap)\n");
+    if (opts.balance_speed) {
+      std::string line = "rank speeds (in-place sweep, fastest = 1):";
+      for (double v : speed) line += fmt::format(" {:.2f}", v);
+      for (int a = 0; a < 3; ++a)
+        if (!starts[a].empty()) {
+          line += fmt::format("; {} blocks", "xyz"[a]);
+          for (std::size_t i = 0; i + 1 < starts[a].size(); ++i)
+            line += fmt::format(" {}", starts[a][i + 1] - starts[a][i]);
+        }
+      fmt::print("{} (--balance-speed)\n", line);
+    }
     if (!opts.peer)
       fmt::print("peer: not run (--no-peer)\n");
     else if (peer.empty())
@@ -177,7 +204,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     p.body_force = {0, 0, -1e-3};
     p.overlap_halo = opts.overlap;
     p.report_choices = false;
-    grid::Decomposition decomp(comm, p.cells, p.periodic());
+    grid::Decomposition decomp(comm, p.cells, p.periodic(), {0, 0, 0}, {}, starts);
     solvers::lbm::LbmSolver lbm(decomp, p);
     lbm.enable_force_field();
     // Nonzero in every cell, so every cell loads it (the sweep skips the loads where it is +0).

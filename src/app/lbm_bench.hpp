@@ -17,6 +17,7 @@ struct LbmBenchOptions {
   bool peer = true;                ///< run the RRZE peer (run-lbm-peer.sh) when it is found
   bool two_grid = true;            ///< also time the former two-grid pull sweep (kernel only)
   bool overlap = true;             ///< overlap the halo exchange with the sweep (production)
+  bool balance_speed = false;      ///< cut by the measured rank speeds instead of equal blocks
 };
 
 /// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.

@@ -158,6 +158,9 @@ int main(int argc, char** argv) {
                   "lbm: do not time the former two-grid sweep");
   bench->add_flag("!--no-overlap", bench_opts.overlap,
                   "lbm: exchange the halo before the sweep instead of during it (A/B)");
+  bench->add_flag("--balance-speed", bench_opts.balance_speed,
+                  "lbm: cut the grid by the ranks' measured sweep speed (as the seaweed does) "
+                  "instead of into equal blocks");
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
   bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
