@@ -158,7 +158,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   for (auto& s : scenarios::all_scenarios())
     if (s.name == name) info = s;
   core::Timers timers;
-  scenarios::RunContext ctx{comm, cfg, timers, out_dir, solver_options};
+  scenarios::RunContext ctx{comm, cfg, timers, out_dir, solver_options, restart_path};
   std::unique_ptr<scenarios::Scenario> scenario;
   agreement.run([&] { scenario = info.create(ctx); });  // validates the scenario's own keys
   if (!restart_path.empty()) {

@@ -24,6 +24,10 @@ struct RunContext {
   std::string output_dir;  ///< output.dir, created by the app
   /// \brief Command-line words after `--` (e.g. PETSc options such as -poisson_ksp_type cg).
   std::vector<std::string> solver_options = {};
+  /// \brief The checkpoint this run restarts from (empty: a fresh start). The scenario reads it
+  /// through read_checkpoint(); its constructor may look at it first (e.g. where the particles
+  /// are now, to cut the grid between the ranks).
+  std::string restart_path = {};
 };
 
 /// \brief A runnable scenario (tank, seaweed, wind, flock, ...).

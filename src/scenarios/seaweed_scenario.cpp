@@ -79,9 +79,11 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     rank_speed_ = solvers::lbm::measure_rank_speeds(ctx.comm, params);
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0}, keys,
-      balanced_block_starts(ctx.comm, params, keys, pop, mpar.spacing,
-                            cfg.get_real("seaweed.balance.sphere_cost"), rank_speed_,
-                            1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx))));
+      balanced_block_starts(
+          ctx.comm, params, keys,
+          spheres_per_plane(ctx.comm, params, keys, pop, mpar.spacing, ctx.restart_path),
+          cfg.get_real("seaweed.balance.sphere_cost"), rank_speed_,
+          1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx))));
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
@@ -159,40 +161,70 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
 }
 
+std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
+    MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
+    const models::plants::Population& pop, double spacing, const std::string& restart_path) {
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  // The rank grid the decomposition will pick (its errors are the ones the user gets).
+  const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
+  std::array<std::vector<double>, 3> count;
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] > 1) count[a].assign(params.cells[a], 0.0);
+  auto add = [&](const Vec3& x) {
+    for (int a = 0; a < 3; ++a)
+      if (!count[a].empty()) {
+        const double c = std::floor(x[a] / params.dx);
+        count[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] += 1;
+      }
+  };
+  if (restart_path.empty()) {  // the grown plants, the same on every rank
+    mp::for_each_sphere(
+        pop, spacing,
+        [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) { add(x); });
+    return count;
+  }
+  // A restart: where the spheres are now (they drift), each rank its share of the rows, summed.
+  const grid::Decomposition even(comm, params.cells, params.periodic(), {0, 0, 0}, keys);
+  io::CheckpointReader reader(even, restart_path);
+  int width = 0;
+  const auto rows = reader.read_rows_share("seaweed_particles", width);
+  particles::ParticleSet set(mp::seaweed_layout());
+  if (width != set.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
+  const std::size_t n = rows.size() / width;
+  set.resize(n, n);
+  for (std::size_t k = 0; k < n; ++k) {
+    set.unpack(k, false, rows.data() + k * width);
+    add(set.pos(k));
+  }
+  for (auto& c : count)
+    if (!c.empty())
+      MPI_Allreduce(MPI_IN_PLACE, c.data(), static_cast<int>(c.size()), MPI_DOUBLE, MPI_SUM, comm);
+  return count;
+}
+
 std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
     MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-    const models::plants::Population& pop, double spacing, double sphere_cost,
+    const std::array<std::vector<double>, 3>& spheres, double sphere_cost,
     const std::vector<double>& rank_speed, int min_cells) {
   std::array<std::vector<int>, 3> starts;
   if (sphere_cost <= 0 && rank_speed.empty()) return starts;
-  // The rank grid the decomposition will pick (its errors are the ones the user gets), then
-  // per cut axis the cells and sphere weight of each plane of cells.
   int size = 0;
   MPI_Comm_size(comm, &size);
   const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
-  std::array<std::vector<double>, 3> weight;
-  for (int a = 0; a < 3; ++a)
-    if (dims[a] > 1)
-      weight[a].assign(params.cells[a], double(params.cells.product()) / params.cells[a]);
-  if (sphere_cost > 0)
-    mp::for_each_sphere(
-        pop, spacing, [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) {
-          for (int a = 0; a < 3; ++a)
-            if (!weight[a].empty()) {
-              const double c = std::floor(x[a] / params.dx);
-              weight[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] +=
-                  sphere_cost;
-            }
-        });
   const auto capacity = grid::block_capacities(
       dims, rank_speed.empty() ? std::vector<double>(size, 1.0) : rank_speed);
-  for (int a = 0; a < 3; ++a)
-    if (!weight[a].empty())
-      // At least half an even block and the particle ghost layer (never thinner than an even
-      // block, which weighted_block_starts caps it at): a deck that runs with even blocks
-      // passes the halo and ghost-width checks with these too.
-      starts[a] = grid::weighted_block_starts(weight[a], capacity[a],
-                                              std::max(min_cells, params.cells[a] / dims[a] / 2));
+  for (int a = 0; a < 3; ++a) {
+    if (dims[a] == 1) continue;
+    // Per plane: its cells plus sphere_cost per sphere in it.
+    std::vector<double> weight(params.cells[a], double(params.cells.product()) / params.cells[a]);
+    for (int k = 0; k < params.cells[a]; ++k) weight[k] += sphere_cost * spheres[a][k];
+    // At least half an even block and the particle ghost layer (never thinner than an even
+    // block, which weighted_block_starts caps it at): a deck that runs with even blocks passes
+    // the halo and ghost-width checks with these too.
+    starts[a] = grid::weighted_block_starts(weight, capacity[a],
+                                            std::max(min_cells, params.cells[a] / dims[a] / 2));
+  }
   return starts;
 }
 
