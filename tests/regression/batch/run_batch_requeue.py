@@ -16,8 +16,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SETS = ["--set", "lbm.nx=24", "--set", "lbm.ny=20", "--set", "lbm.nz=18",
         "--set", "lbm.inlet.center=[0.12, 0.10]", "--set", "lbm.inlet.radius=0.05",
         "--set", "lbm.inlet.ramp_time=0", "--set", "lbm.outlet.center=[0.12, 0.10]",
-        "--set", "lbm.outlet.r_min=0.08", "--set", "run.end_time=3", "--set", "output.interval=0",
-        "--set", "run.progress_interval=500"]
+        "--set", "lbm.outlet.r_min=0.08", "--set", "run.end_time=30", "--set", "output.interval=0",
+        "--set", "run.progress_interval=5000"]
 fail = []
 
 
@@ -39,11 +39,12 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 0, f"uninterrupted run exits 0 ({p.returncode})")
     env = dict(os.environ, PATH=os.path.join(HERE, "fake-bin") + ":" + os.environ["PATH"],
                FAKE_MPIEXEC=MPIEXEC, FAKE_SCHED_DIR=tmp)
-    # The fake schedulers' limit falls at each segment's first progress line (every 500 steps of
-    # 1800), so every segment but the last is cut mid-run; SIGKILL follows 30 s (SLURM, --margin)
+    # The fake schedulers' limit falls at each segment's first progress line (every 5000 steps of
+    # 18000), so every segment but the last is cut mid-run; SIGKILL follows 30 s (SLURM, --margin)
     # or 10 s (PBS) later. PBS's own deadline (1 h) does not fire here. The fake scheduler freezes
-    # the ranks until the forwarded signal is pending in each: this run does 1800 steps in 0.1 s,
-    # and twice a segment finished before the signal reached it (one segment, a failed check).
+    # the ranks until the forwarded signal is pending in each. With 1800 steps (0.1 s) a segment
+    # could still finish before the poller, starved beside another test, saw the progress line
+    # (2 of 3 runs beside bad_decks); 18000 steps leave the first segment ~0.7 s after it.
     for sched, time_limit in (("slurm", "00:10:00"), ("pbs", "01:00:00")):
         run_dir = os.path.join(tmp, sched)
         cmd = [os.path.join(SRC, "jobs", "submit.sh"), sched, os.path.join(SRC, "input", "tank.toml"),

@@ -19,7 +19,8 @@ import subprocess
 import sys
 import time
 
-FREEZE_MAX = 1.0  # s the ranks stay frozen at most (a signal may reach a thread as it stops)
+FREEZE_MAX = 5.0  # s the ranks stay frozen at most (a signal may reach a thread as it stops;
+# beside another test the trap -> kill -> mpiexec -> rank chain took over 1 s)
 KILL_DELAY = 10  # s from PBS's SIGTERM to its SIGKILL (PBS Pro's default kill_delay)
 QUEUE = os.environ.get("FAKE_SCHED_DIR", "/tmp") + "/queue"
 
