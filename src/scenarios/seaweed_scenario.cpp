@@ -41,9 +41,10 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("seaweed.balance.sphere_cost", 50.0, 0.0, 1e6, "LBM cells",
              "work of one sphere's physics step as the number of fluid cells whose physics step "
              "costs the same; weights the cut between the ranks' blocks (0: equal cells)");
-  s.add_bool("seaweed.balance.rank_speed", true,
+  s.add_bool("seaweed.balance.rank_speed", false,
              "time every rank at the LBM sweep at start-up (~0.3 s) and give slower cores fewer "
-             "cells (false: all ranks count as equally fast)");
+             "cells: for lasting differences (hybrid cores, mixed nodes), not for a shared VM "
+             "whose contention comes and goes within a stage");
   s.add_int("seaweed.metrics_interval", 6, 1, 1'000'000'000, "physics steps between metric rows");
 }
 

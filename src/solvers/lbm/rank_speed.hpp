@@ -13,7 +13,7 @@
 namespace biota::solvers::lbm {
 
 /// \brief Relative speed of every rank of `comm` (the fastest is 1; within 10% of it counts as
-/// 1), from the best of five timed runs of 8 in-place steps on a private walled box of the deck's
+/// 1), from the median of five timed runs of 8 in-place steps on a private walled box of the deck's
 /// lattice (96 x 96 x 40 cells, beyond the last-level cache like a production block, or the deck's
 /// grid where smaller), all ranks at once so that they share the memory bandwidth as in the run.
 /// Collective; every rank gets the same vector. Takes ~0.3-0.6 s at full size.
