@@ -142,11 +142,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     probe.lattice = "D3Q19";
     probe.cells = {opts.size, opts.size, opts.size};
     speed = solvers::lbm::measure_rank_speeds(comm, probe);
-    const auto capacity = grid::block_capacities(layout.dims(), speed);
-    for (int a = 0; a < 3; ++a)
-      if (layout.dims()[a] > 1)
-        starts[a] = grid::weighted_block_starts(std::vector<double>(opts.size, 1.0), capacity[a],
-                                                opts.size / layout.dims()[a] / 2);
+    starts = grid::balanced_block_starts(layout.dims(), probe.cells, {}, speed);
   }
   if (rank == 0) {
     fmt::print("biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case\n",

@@ -180,6 +180,20 @@ std::array<std::vector<double>, 3> block_capacities(const Index3& dims,
   return capacity;
 }
 
+std::array<std::vector<int>, 3> balanced_block_starts(
+    const Index3& dims, const Index3& cells, const std::array<std::vector<double>, 3>& plane_weight,
+    const std::vector<double>& rank_speed, int min_cells) {
+  const auto capacity = block_capacities(
+      dims, rank_speed.empty() ? std::vector<double>(dims.product(), 1.0) : rank_speed);
+  std::array<std::vector<int>, 3> starts;
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] > 1)
+      starts[a] = weighted_block_starts(
+          plane_weight[a].empty() ? std::vector<double>(cells[a], 1.0) : plane_weight[a],
+          capacity[a], std::max(min_cells, cells[a] / dims[a] / 2));
+  return starts;
+}
+
 Box Decomposition::box_of(const Index3& c) const {
   Box b;
   for (int a = 0; a < 3; ++a) {

@@ -47,6 +47,14 @@ std::vector<int> weighted_block_starts(const std::vector<double>& plane_weight,
 std::array<std::vector<double>, 3> block_capacities(const Index3& dims,
                                                     const std::vector<double>& rank_speed);
 
+/// \brief Block starts for Decomposition on every axis the rank grid `dims` splits (others
+/// empty): each block gets its capacity's share (block_capacities of `rank_speed`; empty: all
+/// equal) of the plane weights (`plane_weight[a]`; empty: every plane 1), every block at least
+/// max(min_cells, half an even block) thick.
+std::array<std::vector<int>, 3> balanced_block_starts(
+    const Index3& dims, const Index3& cells, const std::array<std::vector<double>, 3>& plane_weight,
+    const std::vector<double>& rank_speed, int min_cells = 1);
+
 /// \brief The deck keys that set a grid's cells, named in the error when the ranks do not fit.
 struct GridKeys {
   std::string source;                ///< deck file (empty: not from a deck)

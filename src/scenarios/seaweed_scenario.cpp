@@ -78,13 +78,28 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   }
   if (cfg.get_bool("seaweed.balance.rank_speed"))
     rank_speed_ = solvers::lbm::measure_rank_speeds(ctx.comm, params);
-  decomp_ = std::make_unique<grid::Decomposition>(
-      ctx.comm, params.cells, params.periodic(), core::Index3{0, 0, 0}, keys,
-      balanced_block_starts(
-          ctx.comm, params, keys,
-          spheres_per_plane(ctx.comm, params, keys, pop, mpar.spacing, ctx.restart_path),
-          cfg.get_real("seaweed.balance.sphere_cost"), rank_speed_,
-          1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx))));
+  {
+    // The rank grid the decomposition will pick (its errors are the ones the user gets); the cut
+    // weighs each plane's cells plus sphere_cost per sphere in it. Blocks at least the particle
+    // ghost layer thick (and half an even block): a deck that runs with even blocks passes the
+    // halo and ghost-width checks with these too.
+    int size = 0;
+    MPI_Comm_size(ctx.comm, &size);
+    const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
+    const double sphere_cost = cfg.get_real("seaweed.balance.sphere_cost");
+    std::array<std::vector<int>, 3> starts;
+    if (sphere_cost > 0 || !rank_speed_.empty()) {
+      auto weight = spheres_per_plane(dims, params, pop, mpar.spacing);
+      for (int a = 0; a < 3; ++a)
+        for (double& w : weight[a])
+          w = double(params.cells.product()) / params.cells[a] + sphere_cost * w;
+      starts = grid::balanced_block_starts(
+          dims, params.cells, weight, rank_speed_,
+          1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx)));
+    }
+    decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic(), dims,
+                                                    keys, starts);
+  }
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),
                      "lbm.nx x lbm.ny x lbm.nz = " + std::to_string(params.cells.x) + " x " +
@@ -163,12 +178,8 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
 }
 
 std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
-    MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-    const models::plants::Population& pop, double spacing, const std::string& restart_path) {
-  int size = 0;
-  MPI_Comm_size(comm, &size);
-  // The rank grid the decomposition will pick (its errors are the ones the user gets).
-  const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
+    const core::Index3& dims, const solvers::lbm::LbmParams& params,
+    const models::plants::Population& pop, double spacing) {
   std::array<std::vector<double>, 3> count;
   for (int a = 0; a < 3; ++a)
     if (dims[a] > 1) count[a].assign(params.cells[a], 0.0);
@@ -179,54 +190,32 @@ std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
         count[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] += 1;
       }
   };
-  if (restart_path.empty()) {  // the grown plants, the same on every rank
+  if (ctx_.restart_path.empty()) {  // the grown plants, the same on every rank
     mp::for_each_sphere(
         pop, spacing,
         [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) { add(x); });
     return count;
   }
   // A restart: where the spheres are now (they drift), each rank its share of the rows, summed.
-  const grid::Decomposition even(comm, params.cells, params.periodic(), {0, 0, 0}, keys);
-  io::CheckpointReader reader(even, restart_path);
-  int width = 0;
-  const auto rows = reader.read_rows_share("seaweed_particles", width);
+  // The share is kept for read_checkpoint (it does not depend on the cut), so it is read once.
+  const grid::Decomposition even(ctx_.comm, params.cells, params.periodic(), dims);
+  io::CheckpointReader reader(even, ctx_.restart_path);
+  restart_rows_ = reader.read_rows_share("seaweed_particles", restart_width_);
+  restart_rows_read_ = true;
   particles::ParticleSet set(mp::seaweed_layout());
-  if (width != set.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
-  const std::size_t n = rows.size() / width;
+  if (restart_width_ != set.pack_width(false))
+    throw core::InputError("checkpoint particle layout differs");
+  const std::size_t n = restart_rows_.size() / restart_width_;
   set.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) {
-    set.unpack(k, false, rows.data() + k * width);
+    set.unpack(k, false, restart_rows_.data() + k * restart_width_);
     add(set.pos(k));
   }
   for (auto& c : count)
     if (!c.empty())
-      MPI_Allreduce(MPI_IN_PLACE, c.data(), static_cast<int>(c.size()), MPI_DOUBLE, MPI_SUM, comm);
+      MPI_Allreduce(MPI_IN_PLACE, c.data(), static_cast<int>(c.size()), MPI_DOUBLE, MPI_SUM,
+                    ctx_.comm);
   return count;
-}
-
-std::array<std::vector<int>, 3> SeaweedScenario::balanced_block_starts(
-    MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-    const std::array<std::vector<double>, 3>& spheres, double sphere_cost,
-    const std::vector<double>& rank_speed, int min_cells) {
-  std::array<std::vector<int>, 3> starts;
-  if (sphere_cost <= 0 && rank_speed.empty()) return starts;
-  int size = 0;
-  MPI_Comm_size(comm, &size);
-  const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
-  const auto capacity = grid::block_capacities(
-      dims, rank_speed.empty() ? std::vector<double>(size, 1.0) : rank_speed);
-  for (int a = 0; a < 3; ++a) {
-    if (dims[a] == 1) continue;
-    // Per plane: its cells plus sphere_cost per sphere in it.
-    std::vector<double> weight(params.cells[a], double(params.cells.product()) / params.cells[a]);
-    for (int k = 0; k < params.cells[a]; ++k) weight[k] += sphere_cost * spheres[a][k];
-    // At least half an even block and the particle ghost layer (never thinner than an even
-    // block, which weighted_block_starts caps it at): a deck that runs with even blocks passes
-    // the halo and ghost-width checks with these too.
-    starts[a] = grid::weighted_block_starts(weight, capacity[a],
-                                            std::max(min_cells, params.cells[a] / dims[a] / 2));
-  }
-  return starts;
 }
 
 void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {
@@ -445,9 +434,15 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
   step_ = r.read_attribute_int("seaweed_step");
   const long long broken = r.read_attribute_int("seaweed_broken_joints");
   bodies_->broken_local() = decomp_->rank() == 0 ? broken : 0;  // summed over ranks in metrics
-  int width = 0;
-  // Each rank reads its share of the rows; the redistribution sends them to their owners.
-  auto rows = r.read_rows_share("seaweed_particles", width);
+  // Each rank reads its share of the rows (the constructor already did for the restart it cut
+  // the grid for); the redistribution sends them to their owners.
+  int width = restart_width_;
+  std::vector<double> rows;
+  if (path == ctx_.restart_path && restart_rows_read_) {  // the same on every rank
+    rows.swap(restart_rows_);
+    restart_rows_read_ = false;
+  } else
+    rows = r.read_rows_share("seaweed_particles", width);
   auto& s = bodies_->set();
   if (width != s.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
   const std::size_t n = rows.size() / width;

@@ -51,19 +51,16 @@ class SeaweedScenario : public Scenario {
   void open_csv();
   void check_spheres_finite();
   void check_particle_halo(const models::plants::MechanicsParams& mpar, double dx);
-  /// Spheres per plane of cells along each axis the rank grid splits (others empty), the same
-  /// on every rank: of the grown population, or on a restart of the checkpoint's spheres (they
-  /// drift). Collective.
-  static std::array<std::vector<double>, 3> spheres_per_plane(
-      MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-      const models::plants::Population& pop, double spacing, const std::string& restart_path);
-  /// Block starts that balance fluid cells plus sphere_cost per sphere over the ranks in
-  /// proportion to their speed (rank_speed; empty: all equal), blocks at least min_cells thick
-  /// where even blocks are (empty: even blocks when sphere_cost is 0 and speeds are equal).
-  static std::array<std::vector<int>, 3> balanced_block_starts(
-      MPI_Comm comm, const solvers::lbm::LbmParams& params, const grid::GridKeys& keys,
-      const std::array<std::vector<double>, 3>& spheres, double sphere_cost,
-      const std::vector<double>& rank_speed, int min_cells);
+  /// Spheres per plane of cells along each axis the rank grid `dims` splits (others empty), the
+  /// same on every rank: of the grown population, or on a restart of the checkpoint's spheres
+  /// (they drift; this rank's share of the rows is kept in restart_rows_). Collective.
+  std::array<std::vector<double>, 3> spheres_per_plane(const core::Index3& dims,
+                                                       const solvers::lbm::LbmParams& params,
+                                                       const models::plants::Population& pop,
+                                                       double spacing);
+  std::vector<double> restart_rows_;  // this rank's share of the restart's particle rows
+  int restart_width_ = 0;
+  bool restart_rows_read_ = false;  // collective decision: a rank's share may be empty
   std::vector<double> rank_speed_;  // measured at start-up (seaweed.balance.rank_speed)
   long long last_broken_total();
   /// \brief Owned cells whose velocity the next step's sampling reads (directly or as a

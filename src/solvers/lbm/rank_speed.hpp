@@ -2,8 +2,8 @@
 /// \file rank_speed.hpp
 /// \brief How fast each rank runs the LBM sweep, measured with every rank sweeping at once, for a
 /// rank cut that gives a slower core fewer cells. Shared cloud hosts give unequal cores: on the
-/// 2-core development VM one vCPU ran the sweep at 0.4-0.5x the other for hours (no steal time
-/// reported), and an equal cut runs at the pace of the slow one (docs/decisions.md).
+/// 2-core development VM one vCPU ran the sweep at 0.4-0.5x the other for minutes at a time (no
+/// steal time reported), and an equal cut runs at the pace of the slow one (docs/decisions.md).
 #include <mpi.h>
 
 #include <vector>
