@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
 
   CLI::App cli{"Biota: living systems in moving fluids (MPI)"};
   cli.require_subcommand(0, 1);
+  // A flag takes no value: `--balance-speed=3` is an error, not "true" (every flag, also of the
+  // subcommands, which inherit these defaults).
+  cli.option_defaults()->disable_flag_override();
   bool show_version = false;
   cli.add_flag("--version", show_version, "print version, build type and dependency versions");
   std::string deck, restart;
