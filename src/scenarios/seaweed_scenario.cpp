@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "coupling/particle_transfer.hpp"
+#include "grid/two_phase_cut.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
 #include "io/particle_output.hpp"
@@ -40,7 +41,8 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
   s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
   s.add_real("seaweed.balance.sphere_cost", 50.0, 0.0, 1e6, "LBM cells",
              "work of one sphere's physics step as the number of fluid cells whose physics step "
-             "costs the same; weights the cut between the ranks' blocks (0: equal cells)");
+             "costs the same; the cut between the ranks minimises the most cells on a rank plus "
+             "this times the most spheres on a rank (0: equal cells)");
   s.add_bool("seaweed.balance.rank_speed", false,
              "time every rank at the LBM sweep at start-up (~0.3 s) and give slower cores fewer "
              "cells: for lasting differences (hybrid cores, mixed nodes), not for a shared VM "
@@ -79,24 +81,20 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
   if (cfg.get_bool("seaweed.balance.rank_speed"))
     rank_speed_ = solvers::lbm::measure_rank_speeds(ctx.comm, params);
   {
-    // The rank grid the decomposition will pick (its errors are the ones the user gets); the cut
-    // weighs each plane's cells plus sphere_cost per sphere in it. Blocks at least the particle
-    // ghost layer thick (and half an even block): a deck that runs with even blocks passes the
-    // halo and ghost-width checks with these too.
+    // The rank grid the decomposition will pick (its errors are the ones the user gets). The LBM
+    // sub-cycle and the particle sub-steps each wait for the slowest rank, so the cut minimises
+    // the most cells on a rank plus sphere_cost times the most spheres on a rank. Blocks at least
+    // the particle ghost layer thick (and half an even block): a deck that runs with even blocks
+    // passes the halo and ghost-width checks with these too.
     int size = 0;
     MPI_Comm_size(ctx.comm, &size);
     const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
     const double sphere_cost = cfg.get_real("seaweed.balance.sphere_cost");
     std::array<std::vector<int>, 3> starts;
-    if (sphere_cost > 0 || !rank_speed_.empty()) {
-      auto weight = spheres_per_plane(dims, params, pop, mpar.spacing);
-      for (int a = 0; a < 3; ++a)
-        for (double& w : weight[a])
-          w = double(params.cells.product()) / params.cells[a] + sphere_cost * w;
-      starts = grid::balanced_block_starts(
-          dims, params.cells, weight, rank_speed_,
-          1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx)));
-    }
+    if (sphere_cost > 0 || !rank_speed_.empty())
+      starts = grid::two_phase_block_starts(
+          dims, params.cells, spheres_per_plane(dims, params, pop, mpar.spacing), sphere_cost,
+          rank_speed_, 1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx)));
     decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic(), dims,
                                                     keys, starts);
   }

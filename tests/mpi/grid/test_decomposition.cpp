@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "grid/decomposition.hpp"
+#include "grid/two_phase_cut.hpp"
 
 using namespace biota::grid;
 
@@ -146,4 +147,43 @@ TEST(Decomposition, FewestCutFacesTiesAvoidZThenX) {
   // 2D (one cell along z): the cut goes across y (whole rows) rather than x.
   Decomposition flat(MPI_COMM_WORLD, {64, 64, 1}, {false, false, true});
   EXPECT_EQ(flat.dims().y, size);
+}
+
+TEST(TwoPhaseCut, CostIsTheSlowestRanksCellsPlusItems) {
+  const Index3 dims{1, 2, 1}, cells{1, 10, 1};
+  const std::array<std::vector<int>, 3> starts{{{}, {0, 4, 10}, {}}};
+  const std::array<std::vector<double>, 3> items{{{}, std::vector<double>(10, 1.0), {}}};
+  // Rank 1 has 6 of 10 cells and 6 of 10 items: 6 + 2 x 6.
+  EXPECT_DOUBLE_EQ(two_phase_cost(dims, cells, starts, items, 2.0, {}), 18.0);
+  // Rank 1 at half speed: 12 + 2 x 12.
+  EXPECT_DOUBLE_EQ(two_phase_cost(dims, cells, starts, items, 2.0, {1.0, 0.5}), 36.0);
+}
+
+TEST(TwoPhaseCut, PicksTheCutOfLeastMaxPlusMax) {
+  const Index3 dims{1, 2, 1}, cells{1, 100, 1};
+  // 600 items, 10 in each of the planes 0-59: equal items at y = 30, equal cells at 50.
+  std::array<std::vector<double>, 3> items{{{}, std::vector<double>(100, 0.0), {}}};
+  for (int p = 0; p < 60; ++p) items[1][p] = 10;
+  // Items nearly free: equal cells.
+  EXPECT_EQ(two_phase_block_starts(dims, cells, items, 1e-3, {}, 1)[1],
+            (std::vector<int>{0, 50, 100}));
+  // Items dear: equal items (a plane of cells costs less than the items it moves).
+  EXPECT_EQ(two_phase_block_starts(dims, cells, items, 1e3, {}, 1)[1],
+            (std::vector<int>{0, 30, 100}));
+  // The cut balancing the sum cells + item_cost x items leaves both phases waiting on a rank;
+  // the chosen cut beats it, and is no worse than equal cells. With items at 0.05 (a plane of
+  // cells costs more than the half an item's cost it moves) equal cells (cost 50 + 0.05 x 500)
+  // beats the sum's cut at 44 (56 + 0.05 x 440); with items at 5 the exact equal-items cut
+  // (70 + 5 x 300) beats the sum's cut at 31 (69 + 5 x 310).
+  for (const double item_cost : {0.05, 5.0}) {
+    std::array<std::vector<double>, 3> sum_weight{{{}, std::vector<double>(100, 1.0), {}}};
+    for (int p = 0; p < 100; ++p) sum_weight[1][p] += item_cost * items[1][p];
+    const auto summed = balanced_block_starts(dims, cells, sum_weight, {}, 1);
+    const auto equal = balanced_block_starts(dims, cells, {}, {}, 1);
+    const auto chosen = two_phase_block_starts(dims, cells, items, item_cost, {}, 1);
+    const double c_chosen = two_phase_cost(dims, cells, chosen, items, item_cost, {});
+    EXPECT_LT(c_chosen, two_phase_cost(dims, cells, summed, items, item_cost, {})) << item_cost;
+    EXPECT_LE(c_chosen, two_phase_cost(dims, cells, equal, items, item_cost, {})) << item_cost;
+    EXPECT_EQ(chosen[1], (std::vector<int>{0, item_cost < 1 ? 50 : 30, 100})) << item_cost;
+  }
 }
