@@ -77,38 +77,38 @@ void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k
   conj(b.qr, cr);
   mul(cp, b.qc, t1);
   mul(t1, cr, rel);
+  // The hemisphere flip as selects and sqrt without errno (this file is built with
+  // -fno-math-errno), so both loops vectorise.
   Real s[B];
   for (int l = 0; l < B; ++l) {
-    if (rel.w[l] < 0)
-      rel.w[l] = -rel.w[l], rel.x[l] = -rel.x[l], rel.y[l] = -rel.y[l], rel.z[l] = -rel.z[l];
+    const bool flip = rel.w[l] < 0;
+    rel.w[l] = flip ? -rel.w[l] : rel.w[l], rel.x[l] = flip ? -rel.x[l] : rel.x[l];
+    rel.y[l] = flip ? -rel.y[l] : rel.y[l], rel.z[l] = flip ? -rel.z[l] : rel.z[l];
     s[l] = std::sqrt(rel.x[l] * rel.x[l] + rel.y[l] * rel.y[l] + rel.z[l] * rel.z[l]);
   }
   // f = 2 atan2(s, w) / s = (2 / w) atan(z) / z with z = s / w. Below z^2 = 0.01 (a bend of
   // 11 degrees) atan(z) / z is its alternating series to z^16 (first dropped term < 1e-19):
   // 2 atan2(s, w) to round-off without libm's atan2 (3.5% of a seaweed cycle-5 profile). Larger
-  // bends: libm.
-  V rv;
+  // bends: libm, lane by lane after the vector pass. Below s = 1e-12 the rotation vector is
+  // 2 (x, y, z), i.e. f = 2.
+  Real f[B], z2[B];
   for (int l = 0; l < B; ++l) {
-    if (s[l] < 1e-12) {
-      rv.x[l] = 2 * rel.x[l], rv.y[l] = 2 * rel.y[l], rv.z[l] = 2 * rel.z[l];
-      continue;
-    }
-    const Real inv_w = 1 / rel.w[l], z2 = s[l] * s[l] * inv_w * inv_w;
-    Real f;
-    if (z2 < 0.01) {
-      const Real p =
-          1 +
-          z2 * (-1.0 / 3 +
-                z2 * (1.0 / 5 +
-                      z2 * (-1.0 / 7 +
-                            z2 * (1.0 / 9 + z2 * (-1.0 / 11 +
-                                                  z2 * (1.0 / 13 + z2 * (-1.0 / 15 + z2 / 17)))))));
-      f = 2 * inv_w * p;
-    } else {
-      f = (2 * std::atan2(s[l], rel.w[l])) / s[l];
-    }
-    rv.x[l] = rel.x[l] * f, rv.y[l] = rel.y[l] * f, rv.z[l] = rel.z[l] * f;
+    const Real inv_w = 1 / rel.w[l];
+    z2[l] = s[l] * s[l] * inv_w * inv_w;
+    const Real z = z2[l];
+    const Real p =
+        1 +
+        z * (-1.0 / 3 +
+             z * (1.0 / 5 + z * (-1.0 / 7 +
+                                 z * (1.0 / 9 + z * (-1.0 / 11 +
+                                                     z * (1.0 / 13 + z * (-1.0 / 15 + z / 17)))))));
+    f[l] = s[l] < 1e-12 ? 2.0 : 2 * inv_w * p;
   }
+  for (int l = 0; l < B; ++l)
+    if (s[l] >= 1e-12 && !(z2[l] < 0.01)) f[l] = (2 * std::atan2(s[l], rel.w[l])) / s[l];
+  V rv;
+  for (int l = 0; l < B; ++l)
+    rv.x[l] = rel.x[l] * f[l], rv.y[l] = rel.y[l] * f[l], rv.z[l] = rel.z[l] * f[l];
   V theta;
   rotate(b.qp, rv, theta);
   // T = theta (-k_b) - (w_c - w_p) c_b on the child.
