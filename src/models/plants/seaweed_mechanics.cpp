@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/quat.hpp"
+#include "models/plants/seaweed_contact_law.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
 #include "particles/cell_list.hpp"
 
@@ -200,7 +201,8 @@ void SeaweedBodies::rebuild_lists() {
     if (c < no || p < no) joints_.emplace_back(c, p);
   }
   skipped_joints_ = skipped;
-  // Per owned sphere: its interactions sorted by (partner id, kind) -- the fixed summation order.
+  // Per owned sphere: its joints, then its contacts, each sorted by (partner id, kind) -- the
+  // fixed summation order.
   // Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
   adj_begin_.assign(no + 1, 0);
   for (const auto& [c, p] : joints_) {
@@ -231,12 +233,16 @@ void SeaweedBodies::rebuild_lists() {
   // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
   // joint m's result on that side's sphere among all joint entries.
   slot_.assign(2 * joints_.size(), kNoSlot);
+  joint_count_.resize(no);
   std::uint32_t nslots = 0;
   for (std::size_t i = 0; i < no; ++i) {
     const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
-    std::sort(b, e, [](const Entry& x, const Entry& y) { return x.key < y.key; });
-    for (auto it = b; it != e; ++it)
-      if (it->kind() != 2) slot_[2 * it->index + it->side] = nslots++;
+    std::sort(b, e, [](const Entry& x, const Entry& y) {
+      return std::pair(x.kind() == 2, x.key) < std::pair(y.kind() == 2, y.key);
+    });
+    joint_count_[i] = 0;
+    for (auto it = b; it != e && it->kind() != 2; ++it, ++joint_count_[i])
+      slot_[2 * it->index + it->side] = nslots++;
   }
   contrib_.resize(nslots);
 }
@@ -360,33 +366,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   hot_.resize(nt);
   for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
   const Hot* hot = hot_.data();
-  const auto contact = [&](std::size_t i, std::size_t j, std::uint32_t side, Vec3& f, Vec3& t) {
-    const Hot &hi = hot[i], &hj = hot[j];
-    const Vec3 d = hi.x - hj.x;
-    const Real ri = hi.r, rj = hj.r, d2 = core::dot(d, d);
-    // Clearly apart (a margin far above round-off): skip the square root; else the exact test.
-    if (d2 > (ri + rj) * (ri + rj) * (1 + 1e-9)) return;
-    const Real dist = core::norm(d);
-    const Real overlap = ri + rj - dist;
-    if (overlap <= 0 || dist <= 0) return;
-    const Vec3 n = d / dist;
-    const Vec3 wi = hi.w, wj = hj.w;
-    const Vec3 vrel = (hi.v + core::cross(wi, n * (-ri))) - (hj.v + core::cross(wj, n * rj));
-    const Real vn = core::dot(vrel, n);
-    const Real fn = std::max(0.0, p_.contact_k * overlap - p_.contact_c * vn);
-    const Vec3 vt = vrel - n * vn;
-    const Real vtn = core::norm(vt);
-    Vec3 ft{};
-    if (vtn > 0) ft = vt * (-std::min(p_.friction_c * vtn, p_.friction * fn) / vtn);
-    const Vec3 F = n * fn + ft;
-    if (side == 0) {
-      f = f + F;
-      t = t + core::cross(n * (-ri), ft);
-    } else {
-      f = f + (-F);
-      t = t + core::cross(n * rj, -ft);
-    }
-  };
+  const ContactLaw law{p_.contact_k, p_.contact_c, p_.friction, p_.friction_c};
   // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
   // order.
   bool periodic[3];
@@ -427,42 +407,47 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * vi[d]);
       if (lo > 0 || hi > 0) f = f + fw;
     }
-    const auto interact = [&](std::uint32_t kind, std::uint32_t side, std::uint32_t index) {
-      if (kind == 2) {  // (lower id, higher id) as listed in pairs_
-        if (side == 0)
-          contact(i, index, 0, f, t);
-        else
-          contact(index, i, 1, f, t);
-        return;
-      }
+    // Joints first (their results are dense in this order), then the touching contacts, each
+    // group by partner id: an order of global ids only, so the sum is the same on any rank count.
+    for (std::uint32_t q = 0; q < joint_count_[i]; ++q, ++jk) {
       f = f + out[jk].f;
       t = t + out[jk].t;
-      ++jk;
-    };
-    if (filter) {
-      for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+    }
+    if (filter) {  // the contacts that can still touch, in order, into the inner list
+      for (std::size_t k = adj_begin_[i] + joint_count_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
-        if (e.kind() == 2) {
-          const Hot& hj = hot[e.index];
-          const Vec3 d = hot[i].x - hj.x;
-          const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
-          if (d2 >= reach * reach) {
-            // Not listed. With inner_skin > 0 it fails contact()'s first test, which is this
-            // very d2 (the pair's d up to an exact sign) against the same bound: skipped here.
-            if (d2 > rr * rr * (1 + 1e-9)) continue;
-            interact(e.kind(), e.side, e.index);
-            continue;
-          }
-        }
-        near_.push_back({e.index, e.kind() | e.side << 2});
-        interact(e.kind(), e.side, e.index);
+        const Hot& hj = hot[e.index];
+        const Vec3 d = hot[i].x - hj.x;
+        const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
+        // Beyond the reach and failing evaluate_contact's first test (this very d2, the pair's d
+        // up to an exact sign, against the same bound): cannot touch before the next filter.
+        if (d2 >= reach * reach && d2 > rr * rr * (1 + 1e-9)) continue;
+        near_.push_back({e.index, e.side});
       }
       near_begin_[i + 1] = near_.size();
-    } else {
-      for (std::size_t k = near_begin_[i]; k < near_begin_[i + 1]; ++k) {
-        const Near e = near_[k];
-        interact(e.tag & 3u, e.tag >> 2, e.index);
-      }
+    }
+    // Touching contacts compacted first without a branch on the test, then their laws: a
+    // branch per candidate ("touches?", ~50%) and per orientation mispredicts, and each miss
+    // discards the next contacts' work in flight.
+    const std::size_t nb = near_begin_[i], ne = near_begin_[i + 1];
+    if (touch_.size() < ne - nb) touch_.resize(ne - nb);
+    std::uint32_t* touch = touch_.data();
+    std::size_t n_touch = 0;
+    for (std::size_t k = nb; k < ne; ++k) {
+      const Hot& hj = hot[near_[k].index];
+      const Vec3 d = hot[i].x - hj.x;
+      const Real rr = hot[i].r + hj.r, d2 = core::dot(d, d);
+      touch[n_touch] = static_cast<std::uint32_t>(k);
+      n_touch += d2 > rr * rr * (1 + 1e-9) ? 0 : 1;  // evaluate_contact's first test
+    }
+    for (std::size_t c = 0; c < n_touch; ++c) {
+      const Near e = near_[touch[c]];
+      Vec3 fc, tc;
+      if (!evaluate_contact(hot[e.side ? e.index : i], hot[e.side ? i : e.index], e.side, law, fc,
+                            tc))
+        continue;
+      f = f + fc;
+      t = t + tc;
     }
     fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
     tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "models/plants/seaweed_contact_law.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
 #include "models/plants/ulva_growth.hpp"
 #include "particles/particle_comm.hpp"
@@ -123,10 +124,7 @@ class SeaweedBodies {
   };
   static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
   /// What the contact evaluation reads of a sphere, in one record (see compute_forces).
-  struct Hot {
-    Vec3 x, v, w;
-    Real r, pad[2];
-  };
+  using Hot = SphereHot;
   std::vector<Hot> hot_;
   std::unique_ptr<JointBlock> joint_block_ = std::make_unique<JointBlock>();  // 2.7 kB scratch
   void compute_forces(Real dt_sub);
@@ -157,15 +155,18 @@ class SeaweedBodies {
     std::uint32_t kind() const { return static_cast<std::uint32_t>(key & 3); }
   };
   std::vector<Entry> entries_;
-  // Inner list: the entries of entries_ that can still touch, in the same order (every joint, and
-  // the contacts closer than the radii plus inner_skin at the last filter), per owned sphere.
+  // Per owned sphere: its joint entries, which lead its segment of entries_.
+  std::vector<std::uint32_t> joint_count_;
+  // Inner list: the contact entries of entries_ that can still touch (closer than the radii plus
+  // inner_skin at the last filter), in the same order, per owned sphere.
   struct Near {
-    std::uint32_t index;  // Entry::index
-    std::uint32_t tag;    // kind | side << 2
+    std::uint32_t index;  // partner slot
+    std::uint32_t side;   // 0: the owned sphere has the lower id
   };
   std::vector<Near> near_;
   std::vector<std::size_t> near_begin_;
-  std::vector<Vec3> x_filter_;  // owned and ghost positions at the last filter
+  std::vector<std::uint32_t> touch_;  // per-sphere scratch: positions of the touching contacts
+  std::vector<Vec3> x_filter_;        // owned and ghost positions at the last filter
   bool need_filter_ = true;
   long long filters_ = 0;
   bool filter_due() const;

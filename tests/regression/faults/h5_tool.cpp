@@ -3,12 +3,15 @@
 ///   h5_tool set-int <file> <attribute> <value>   overwrite a root integer attribute
 ///   h5_tool same <a> <b> <dataset>               exit 0 if the double datasets are bitwise equal
 ///   h5_tool same-rows <a> <b> <dataset>          the same for 2-D datasets taken as sets of rows
+///   h5_tool max-diff-rows <a> <b> <dataset> <key> largest |a - b| of each column, rows matched by
+///                                                the bits of column <key> (e.g. a particle id)
 ///                                                (particle rows, whose order depends on the ranks)
 ///   h5_tool layout <file> <dataset>              print "chunked AxBxC filters shuffle,deflate" or
 ///                                                "contiguous filters none"
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -86,6 +89,39 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu of %zu rows differ\n", argv[4], differ, ra.size());
     return differ != 0;
   }
+  if (argc == 6 && std::string(argv[1]) == "max-diff-rows") {
+    std::vector<hsize_t> da, db;
+    auto a = read_all(argv[2], argv[4], da), b = read_all(argv[3], argv[4], db);
+    const std::size_t key = std::stoul(argv[5]);
+    if (a.empty() || da != db || da.size() != 2 || key >= da[1]) {
+      std::printf("%s: missing, not 2-D, different shapes or no column %zu\n", argv[4], key);
+      return 1;
+    }
+    const std::size_t w = da[1], n = da[0];
+    auto order = [&](const std::vector<double>& v) {
+      std::vector<std::pair<std::uint64_t, std::size_t>> o(n);
+      for (std::size_t r = 0; r < n; ++r) {
+        std::memcpy(&o[r].first, &v[r * w + key], 8);
+        o[r].second = r;
+      }
+      std::sort(o.begin(), o.end());
+      return o;
+    };
+    const auto oa = order(a), ob = order(b);
+    std::vector<double> worst(w, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (oa[k].first != ob[k].first) {
+        std::printf("%s: the key columns differ\n", argv[4]);
+        return 1;
+      }
+      for (std::size_t c = 0; c < w; ++c)
+        worst[c] = std::max(worst[c], std::abs(a[oa[k].second * w + c] - b[ob[k].second * w + c]));
+    }
+    std::printf("%s: largest |a - b| per column:", argv[4]);
+    for (std::size_t c = 0; c < w; ++c) std::printf(" %.3g", worst[c]);
+    std::printf("\n");
+    return 0;
+  }
   if (argc == 4 && std::string(argv[1]) == "layout") {
     hid_t f = H5Fopen(argv[2], H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) return 1;
@@ -118,6 +154,6 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: h5_tool set-int <file> <attr> <value> | same|same-rows <a> <b> <dataset> | "
-               "layout <file> <dataset>\n");
+               "max-diff-rows <a> <b> <dataset> <key column> | layout <file> <dataset>\n");
   return 2;
 }
