@@ -104,8 +104,33 @@ void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k
                                                      z * (1.0 / 13 + z * (-1.0 / 15 + z / 17)))))));
     f[l] = s[l] < 1e-12 ? 2.0 : 2 * inv_w * p;
   }
+  // Bends of 11 to 90 degrees (z^2 from 0.01 to 1): three half-angle steps, atan2(s, w) =
+  // 2 atan2(s, w + sqrt(w^2 + s^2)), bring z below 0.0985 (z^2 < 0.0097), where the series
+  // holds; vector lanes for the whole block when any lane needs it. Beyond 90 degrees: libm.
+  int mid = 0;
+  for (int l = 0; l < B; ++l) mid += s[l] >= 1e-12 && !(z2[l] < 0.01) && z2[l] < 1;
+  if (mid > 0) {
+    Real fh[B];
+    for (int l = 0; l < B; ++l) {
+      const Real s2 = s[l] * s[l];
+      Real wh = rel.w[l];
+      wh = wh + std::sqrt(wh * wh + s2);
+      wh = wh + std::sqrt(wh * wh + s2);
+      wh = wh + std::sqrt(wh * wh + s2);
+      const Real inv_w = 1 / wh, z = s2 * inv_w * inv_w;
+      const Real p =
+          1 + z * (-1.0 / 3 +
+                   z * (1.0 / 5 +
+                        z * (-1.0 / 7 +
+                             z * (1.0 / 9 +
+                                  z * (-1.0 / 11 + z * (1.0 / 13 + z * (-1.0 / 15 + z / 17)))))));
+      fh[l] = 16 * inv_w * p;
+    }
+    for (int l = 0; l < B; ++l)
+      if (s[l] >= 1e-12 && !(z2[l] < 0.01) && z2[l] < 1) f[l] = fh[l];
+  }
   for (int l = 0; l < B; ++l)
-    if (s[l] >= 1e-12 && !(z2[l] < 0.01)) f[l] = (2 * std::atan2(s[l], rel.w[l])) / s[l];
+    if (s[l] >= 1e-12 && !(z2[l] < 1)) f[l] = (2 * std::atan2(s[l], rel.w[l])) / s[l];
   V rv;
   for (int l = 0; l < B; ++l)
     rv.x[l] = rel.x[l] * f[l], rv.y[l] = rel.y[l] * f[l], rv.z[l] = rel.z[l] * f[l];
