@@ -10,6 +10,7 @@
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_contact_law.hpp"
+#include "models/plants/seaweed_integrate.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
 #include "particles/cell_list.hpp"
 
@@ -489,22 +490,27 @@ void SeaweedBodies::advance(Real dt) {
     }
     compute_forces(h);
     // Symplectic Euler: velocities first, then positions with the new velocities.
-    const Col3 f = cols3(set_, a_force), t = cols3(set_, a_torque);
-    Real *vx = set_.real(a_vel, 0), *vy = set_.real(a_vel, 1), *vz = set_.real(a_vel, 2);
-    Real *wx = set_.real(a_omega, 0), *wy = set_.real(a_omega, 1), *wz = set_.real(a_omega, 2);
-    Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
-         *pz = set_.real(ParticleSet::kPos, 2);
-    Real *qw = set_.real(a_quat, 0), *qx = set_.real(a_quat, 1), *qy = set_.real(a_quat, 2),
-         *qz = set_.real(a_quat, 3);
-    for (std::size_t i = 0; i < set_.n_owned(); ++i) {
-      const Vec3 v = Vec3{vx[i], vy[i], vz[i]} + f.at(i) * (h / m);
-      const Vec3 w = Vec3{wx[i], wy[i], wz[i]} + t.at(i) * (h / I);
-      vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
-      wx[i] = w.x, wy[i] = w.y, wz[i] = w.z;
-      px[i] = px[i] + v.x * h, py[i] = py[i] + v.y * h, pz[i] = pz[i] + v.z * h;
-      const core::Quat q = core::Quat{qw[i], qx[i], qy[i], qz[i]}.integrated(w, h);
-      qw[i] = q.w, qx[i] = q.x, qy[i] = q.y, qz[i] = q.z;
-    }
+    const auto col = [&](int a, int c) { return set_.real(a, c); };
+    const SphereColumns cols{col(a_force, 0),
+                             col(a_force, 1),
+                             col(a_force, 2),
+                             col(a_torque, 0),
+                             col(a_torque, 1),
+                             col(a_torque, 2),
+                             col(a_vel, 0),
+                             col(a_vel, 1),
+                             col(a_vel, 2),
+                             col(a_omega, 0),
+                             col(a_omega, 1),
+                             col(a_omega, 2),
+                             col(ParticleSet::kPos, 0),
+                             col(ParticleSet::kPos, 1),
+                             col(ParticleSet::kPos, 2),
+                             col(a_quat, 0),
+                             col(a_quat, 1),
+                             col(a_quat, 2),
+                             col(a_quat, 3)};
+    integrate_spheres(cols, set_.n_owned(), h, h / m, h / I);
   }
   comm_.update_ghosts(set_);  // ghosts carry the step's final state and drag impulse
 }
