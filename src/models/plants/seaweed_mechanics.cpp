@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/quat.hpp"
+#include "models/plants/seaweed_body_forces.hpp"
 #include "models/plants/seaweed_contact_law.hpp"
 #include "models/plants/seaweed_integrate.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
@@ -235,6 +236,7 @@ void SeaweedBodies::rebuild_lists() {
   // joint m's result on that side's sphere among all joint entries.
   slot_.assign(2 * joints_.size(), kNoSlot);
   joint_count_.resize(no);
+  slot_owner_.clear();
   std::uint32_t nslots = 0;
   for (std::size_t i = 0; i < no; ++i) {
     const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
@@ -242,8 +244,10 @@ void SeaweedBodies::rebuild_lists() {
       return std::pair(x.kind() == 2, x.key) < std::pair(y.kind() == 2, y.key);
     });
     joint_count_[i] = 0;
-    for (auto it = b; it != e && it->kind() != 2; ++it, ++joint_count_[i])
+    for (auto it = b; it != e && it->kind() != 2; ++it, ++joint_count_[i]) {
       slot_[2 * it->index + it->side] = nslots++;
+      slot_owner_.push_back(static_cast<std::uint32_t>(i));
+    }
   }
   contrib_.resize(nslots);
 }
@@ -368,53 +372,43 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
   const Hot* hot = hot_.data();
   const ContactLaw law{p_.contact_k, p_.contact_c, p_.friction, p_.friction_c};
-  // Sum on each owned sphere: body forces, drag, walls, then interactions in (partner id, kind)
-  // order.
-  bool periodic[3];
-  Real wall_lo[3], wall_hi[3];
+  // The sum on each owned sphere: body forces, then its joints, then its contacts, each group
+  // by partner id (an order of global ids only, so the same on any rank count). Each phase runs
+  // over all spheres at once, adding into the force columns in that order: no loop per sphere
+  // whose varying length the core mispredicts at every exit.
+  BodyForceLaw body{
+      weight.z, 0.5 * p_.drag_cd * p_.water_density * area, dt_sub, p_.contact_k, p_.contact_c, {},
+      {}};
   for (int d = 0; d < 3; ++d) {
-    periodic[d] = comm_.decomposition().periodic(d);
-    wall_lo[d] = comm_.domain_lo()[d] + p_.radius;
-    wall_hi[d] = comm_.domain_hi()[d] - p_.radius;
+    const bool periodic = comm_.decomposition().periodic(d);
+    body.wall_lo[d] = periodic ? -INFINITY : comm_.domain_lo()[d] + p_.radius;
+    body.wall_hi[d] = periodic ? INFINITY : comm_.domain_hi()[d] - p_.radius;
+  }
+  body_forces(body,
+              {{x.c0, x.c1, x.c2},
+               {v.c0, v.c1, v.c2},
+               {uf.c0, uf.c1, uf.c2},
+               {fx, fy, fz},
+               {tx, ty, tz},
+               {ix, iy, iz}},
+              no);
+  // Joint results, dense in summation order (slot_owner_: the owned sphere of each).
+  for (std::size_t k = 0; k < contrib_.size(); ++k) {
+    const std::uint32_t i = slot_owner_[k];
+    fx[i] = fx[i] + out[k].f.x, fy[i] = fy[i] + out[k].f.y, fz[i] = fz[i] + out[k].f.z;
+    tx[i] = tx[i] + out[k].t.x, ty[i] = ty[i] + out[k].t.y, tz[i] = tz[i] + out[k].t.z;
   }
   // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
-  // the entries that can still touch are copied, in order; otherwise only those are walked.
+  // the contacts that can still touch are copied, in order; otherwise only those are walked.
   // Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
-  const bool filter = filter_due();
-  if (filter) {
+  if (filter_due()) {
     ++filters_;
     need_filter_ = false;
     x_filter_.resize(nt);
     for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
     near_.clear();
-    near_begin_.assign(no + 1, 0);
-  }
-  const Real s_in = p_.inner_skin;
-  std::size_t jk = 0;  // next joint result (dense, in summation order)
-  for (std::size_t i = 0; i < no; ++i) {
-    const Vec3 xi = x.at(i), vi = v.at(i);
-    const Vec3 rel = uf.at(i) - vi;
-    const Vec3 drag = rel * (0.5 * p_.drag_cd * p_.water_density * area * core::norm(rel));
-    Vec3 f = weight + drag, t{};
-    const Vec3 imp = drag * dt_sub;
-    ix[i] += imp[0], iy[i] += imp[1], iz[i] += imp[2];
-    // Tank walls: the same contact spring as sphere-sphere contacts.
-    for (int d = 0; d < 3; ++d) {
-      if (periodic[d]) continue;
-      const Real lo = wall_lo[d] - xi[d];
-      const Real hi = xi[d] - wall_hi[d];
-      Vec3 fw{};
-      if (lo > 0) fw[d] = std::max(0.0, p_.contact_k * lo - p_.contact_c * vi[d]);
-      if (hi > 0) fw[d] = std::min(0.0, -p_.contact_k * hi - p_.contact_c * vi[d]);
-      if (lo > 0 || hi > 0) f = f + fw;
-    }
-    // Joints first (their results are dense in this order), then the touching contacts, each
-    // group by partner id: an order of global ids only, so the sum is the same on any rank count.
-    for (std::uint32_t q = 0; q < joint_count_[i]; ++q, ++jk) {
-      f = f + out[jk].f;
-      t = t + out[jk].t;
-    }
-    if (filter) {  // the contacts that can still touch, in order, into the inner list
+    const Real s_in = p_.inner_skin;
+    for (std::size_t i = 0; i < no; ++i)
       for (std::size_t k = adj_begin_[i] + joint_count_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
         const Hot& hj = hot[e.index];
@@ -423,35 +417,31 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
         // Beyond the reach and failing evaluate_contact's first test (this very d2, the pair's d
         // up to an exact sign, against the same bound): cannot touch before the next filter.
         if (d2 >= reach * reach && d2 > rr * rr * (1 + 1e-9)) continue;
-        near_.push_back({e.index, e.side});
+        near_.push_back({e.index, static_cast<std::uint32_t>(i) << 1 | e.side});
       }
-      near_begin_[i + 1] = near_.size();
-    }
-    // Touching contacts compacted first without a branch on the test, then their laws: a
-    // branch per candidate ("touches?", ~50%) and per orientation mispredicts, and each miss
-    // discards the next contacts' work in flight.
-    const std::size_t nb = near_begin_[i], ne = near_begin_[i + 1];
-    if (touch_.size() < ne - nb) touch_.resize(ne - nb);
-    std::uint32_t* touch = touch_.data();
-    std::size_t n_touch = 0;
-    for (std::size_t k = nb; k < ne; ++k) {
-      const Hot& hj = hot[near_[k].index];
-      const Vec3 d = hot[i].x - hj.x;
-      const Real rr = hot[i].r + hj.r, d2 = core::dot(d, d);
-      touch[n_touch] = static_cast<std::uint32_t>(k);
-      n_touch += d2 > rr * rr * (1 + 1e-9) ? 0 : 1;  // evaluate_contact's first test
-    }
-    for (std::size_t c = 0; c < n_touch; ++c) {
-      const Near e = near_[touch[c]];
-      Vec3 fc, tc;
-      if (!evaluate_contact(hot[e.side ? e.index : i], hot[e.side ? i : e.index], e.side, law, fc,
-                            tc))
-        continue;
-      f = f + fc;
-      t = t + tc;
-    }
-    fx[i] = f[0], fy[i] = f[1], fz[i] = f[2];
-    tx[i] = t[0], ty[i] = t[1], tz[i] = t[2];
+  }
+  // Touching contacts compacted first without a branch on the test, then their laws: a branch
+  // per candidate ("touches?", ~50%) and per orientation mispredicts, and each miss discards
+  // the next contacts' work in flight.
+  touch_.resize(near_.size());
+  std::uint32_t* touch = touch_.data();
+  std::size_t n_touch = 0;
+  for (std::size_t k = 0; k < near_.size(); ++k) {
+    const Near e = near_[k];
+    const Hot &hi = hot[e.owner_side >> 1], &hj = hot[e.index];
+    const Vec3 d = hi.x - hj.x;
+    const Real rr = hi.r + hj.r, d2 = core::dot(d, d);
+    touch[n_touch] = static_cast<std::uint32_t>(k);
+    n_touch += d2 > rr * rr * (1 + 1e-9) ? 0 : 1;  // evaluate_contact's first test
+  }
+  for (std::size_t c = 0; c < n_touch; ++c) {
+    const Near e = near_[touch[c]];
+    const std::uint32_t i = e.owner_side >> 1, side = e.owner_side & 1;
+    Vec3 fc, tc;
+    if (!evaluate_contact(hot[side ? e.index : i], hot[side ? i : e.index], side, law, fc, tc))
+      continue;
+    fx[i] = fx[i] + fc.x, fy[i] = fy[i] + fc.y, fz[i] = fz[i] + fc.z;
+    tx[i] = tx[i] + tc.x, ty[i] = ty[i] + tc.y, tz[i] = tz[i] + tc.z;
   }
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
   for (std::size_t i : broken_now_) {

@@ -157,15 +157,15 @@ class SeaweedBodies {
   std::vector<Entry> entries_;
   // Per owned sphere: its joint entries, which lead its segment of entries_.
   std::vector<std::uint32_t> joint_count_;
+  std::vector<std::uint32_t> slot_owner_;  // the owned sphere of each joint result in contrib_
   // Inner list: the contact entries of entries_ that can still touch (closer than the radii plus
-  // inner_skin at the last filter), in the same order, per owned sphere.
+  // inner_skin at the last filter), in the same order, owned sphere by owned sphere.
   struct Near {
-    std::uint32_t index;  // partner slot
-    std::uint32_t side;   // 0: the owned sphere has the lower id
+    std::uint32_t index;       // partner slot
+    std::uint32_t owner_side;  // owned sphere << 1 | side (1: the owned sphere has the higher id)
   };
   std::vector<Near> near_;
-  std::vector<std::size_t> near_begin_;
-  std::vector<std::uint32_t> touch_;  // per-sphere scratch: positions of the touching contacts
+  std::vector<std::uint32_t> touch_;  // scratch: positions in near_ of the touching contacts
   std::vector<Vec3> x_filter_;        // owned and ghost positions at the last filter
   bool need_filter_ = true;
   long long filters_ = 0;
