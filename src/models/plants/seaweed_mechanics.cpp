@@ -10,6 +10,7 @@
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_body_forces.hpp"
+#include "models/plants/seaweed_contact_block.hpp"
 #include "models/plants/seaweed_contact_law.hpp"
 #include "models/plants/seaweed_integrate.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
@@ -434,14 +435,24 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     touch[n_touch] = static_cast<std::uint32_t>(k);
     n_touch += d2 > rr * rr * (1 + 1e-9) ? 0 : 1;  // evaluate_contact's first test
   }
-  for (std::size_t c = 0; c < n_touch; ++c) {
-    const Near e = near_[touch[c]];
-    const std::uint32_t i = e.owner_side >> 1, side = e.owner_side & 1;
-    Vec3 fc, tc;
-    if (!evaluate_contact(hot[side ? e.index : i], hot[side ? i : e.index], side, law, fc, tc))
-      continue;
-    fx[i] = fx[i] + fc.x, fy[i] = fy[i] + fc.y, fz[i] = fz[i] + fc.z;
-    tx[i] = tx[i] + tc.x, ty[i] = ty[i] + tc.y, tz[i] = tz[i] + tc.z;
+  // The laws in vector blocks of kContactBlock pairs (the last block padded with its first
+  // pair, whose copies are not added); a block's results are added in list order.
+  ContactBlockOut r;
+  std::uint32_t a[kContactBlock], b[kContactBlock], side[kContactBlock], owner[kContactBlock];
+  for (std::size_t c0 = 0; c0 < n_touch; c0 += kContactBlock) {
+    const int lanes = static_cast<int>(std::min<std::size_t>(kContactBlock, n_touch - c0));
+    for (int l = 0; l < kContactBlock; ++l) {
+      const Near e = near_[touch[c0 + (l < lanes ? l : 0)]];
+      owner[l] = e.owner_side >> 1, side[l] = e.owner_side & 1;
+      a[l] = side[l] ? e.index : owner[l], b[l] = side[l] ? owner[l] : e.index;
+    }
+    evaluate_contact_block(hot, a, b, side, law, r);
+    // A lane that does not touch after all adds +0: exact, the sums are never -0.
+    for (int l = 0; l < lanes; ++l) {
+      const std::uint32_t i = owner[l];
+      fx[i] = fx[i] + r.fx[l], fy[i] = fy[i] + r.fy[l], fz[i] = fz[i] + r.fz[l];
+      tx[i] = tx[i] + r.tx[l], ty[i] = ty[i] + r.ty[l], tz[i] = tz[i] + r.tz[l];
+    }
   }
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
   for (std::size_t i : broken_now_) {

@@ -1,0 +1,27 @@
+#pragma once
+/// \file seaweed_contact_block.hpp
+/// \brief evaluate_contact (seaweed_contact_law.hpp) for kContactBlock pairs at once, in vector
+/// lanes. Every lane performs exactly the scalar law's operations in the same order (the build
+/// uses -ffp-contract=off; vector add, mul, div and sqrt are the same IEEE operations as scalar
+/// ones), so a pair gets the same bits in a block as alone.
+#include <cstdint>
+
+#include "models/plants/seaweed_contact_law.hpp"
+
+namespace biota::models::plants {
+
+inline constexpr int kContactBlock = 8;
+
+/// \brief Results of a block, one lane per pair: force and torque on the sphere of that lane's
+/// side, +0 where the pair does not touch.
+struct ContactBlockOut {
+  using Lane = Real[kContactBlock];
+  Lane fx, fy, fz, tx, ty, tz;
+};
+
+/// \brief The law for the pairs (a[l], b[l]) of slots in `hot` (lower global id first), each on
+/// the sphere of side[l] (0: a, 1: b).
+void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const std::uint32_t* b,
+                            const std::uint32_t* side, const ContactLaw& law, ContactBlockOut& out);
+
+}  // namespace biota::models::plants
