@@ -9,7 +9,8 @@
 /// parent's global id, rest anchors, rest orientation; these travel with ghosts). Every joint and
 /// contact touching an owned sphere is evaluated by each rank owning one of its two spheres, with
 /// identical inputs, and each rank adds it only to its own spheres, summing the interactions of a
-/// sphere in a fixed order (partner global id, kind). Nothing is scattered back, so forces, and
+/// sphere in a fixed order: body forces, its joints, then its contacts, each group by partner
+/// global id. Nothing is scattered back, so forces, and
 /// hence trajectories, are bitwise the same on any rank count (docs/seaweed.md). A break is
 /// decided by the child's owner; the parent's side sees it at the next ghost refresh (the next
 /// sub-step), the same sub-step in which the child stops applying it.
