@@ -23,31 +23,16 @@ void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const 
     ri[l] = p.r, rj[l] = q.r;
     sd[l] = side[l] != 0 ? 1.0 : 0.0;
   }
-  // evaluate_contact's expressions, its early returns as a lane mask (a lane that does not
-  // touch computes on and is zeroed at the end; its NaNs or infinities stay in that lane).
+  // The law on whole lanes; a lane that does not touch computes on and is zeroed at the end
+  // (its NaNs or infinities stay in that lane).
   for (int l = 0; l < B; ++l) {
-    const Vec3 d{xi[0][l] - xj[0][l], xi[1][l] - xj[1][l], xi[2][l] - xj[2][l]};
-    const Real r_i = ri[l], r_j = rj[l], d2 = core::dot(d, d);
-    const Real dist = std::sqrt(d2);
-    const Real overlap = r_i + r_j - dist;
-    const bool apart = d2 > (r_i + r_j) * (r_i + r_j) * (1 + 1e-9);
-    const bool touch = !(apart | (overlap <= 0) | (dist <= 0));
-    const Vec3 n = d / dist;
-    const Vec3 wa{wi[0][l], wi[1][l], wi[2][l]}, wb{wj[0][l], wj[1][l], wj[2][l]};
-    const Vec3 va{vi[0][l], vi[1][l], vi[2][l]}, vb{vj[0][l], vj[1][l], vj[2][l]};
-    const Vec3 vrel = (va + core::cross(wa, n * (-r_i))) - (vb + core::cross(wb, n * r_j));
-    const Real vn = core::dot(vrel, n);
-    const Real fn_raw = law.k * overlap - law.c * vn;
-    const Real fn = 0.0 < fn_raw ? fn_raw : 0.0;  // std::max(0.0, fn_raw)
-    const Vec3 vt = vrel - n * vn;
-    const Real vtn = std::sqrt(core::dot(vt, vt));
-    const Real slip = law.mu_c * vtn, cap = law.mu * fn;
-    const Real s = -(cap < slip ? cap : slip) / vtn;  // -std::min(slip, cap) / vtn
-    const bool sliding = vtn > 0;
-    const Vec3 ft{sliding ? vt.x * s : 0.0, sliding ? vt.y * s : 0.0, sliding ? vt.z * s : 0.0};
-    const Vec3 F = n * fn + ft;
+    bool touch;
+    Vec3 F, t0, t1;
+    contact_law({xi[0][l], xi[1][l], xi[2][l]}, {vi[0][l], vi[1][l], vi[2][l]},
+                {wi[0][l], wi[1][l], wi[2][l]}, ri[l], {xj[0][l], xj[1][l], xj[2][l]},
+                {vj[0][l], vj[1][l], vj[2][l]}, {wj[0][l], wj[1][l], wj[2][l]}, rj[l], law, touch,
+                F, t0, t1);
     const bool second = sd[l] != 0.0;
-    const Vec3 t0 = core::cross(n * (-r_i), ft), t1 = core::cross(n * r_j, -ft);
     out.fx[l] = touch ? (second ? -F.x : F.x) : 0.0;
     out.fy[l] = touch ? (second ? -F.y : F.y) : 0.0;
     out.fz[l] = touch ? (second ? -F.z : F.z) : 0.0;

@@ -1,9 +1,9 @@
 #pragma once
 /// \file seaweed_contact_block.hpp
-/// \brief evaluate_contact (seaweed_contact_law.hpp) for kContactBlock pairs at once, in vector
-/// lanes. Every lane performs exactly the scalar law's operations in the same order (the build
-/// uses -ffp-contract=off; vector add, mul, div and sqrt are the same IEEE operations as scalar
-/// ones), so a pair gets the same bits in a block as alone.
+/// \brief contact_law (seaweed_contact_law.hpp) for kContactBlock pairs at once, in vector lanes.
+/// Every lane performs exactly the scalar operations in the same order (the build uses
+/// -ffp-contract=off; vector add, mul, div and sqrt are the same IEEE operations as scalar ones),
+/// so a pair gets the same bits in a block as alone.
 #include <cstdint>
 
 #include "models/plants/seaweed_contact_law.hpp"

@@ -3,10 +3,9 @@
 /// \brief The seaweed sphere-sphere contact law (paper section 4): a normal spring-damper on the
 /// overlap and viscous friction capped by Coulomb's law, with the contact point's velocities
 /// from the spheres' spins. Evaluated for the pair in a fixed orientation (lower global id
-/// first), so both owners of a pair get the same bits.
-#include <algorithm>
+/// first), so both owners of a pair get the same bits. One definition for scalar and vector
+/// use: written without branches, so a loop of lanes over it vectorises (seaweed_contact_block).
 #include <cmath>
-#include <cstdint>
 
 #include "core/types.hpp"
 
@@ -26,32 +25,40 @@ struct ContactLaw {
   Real k, c, mu, mu_c;
 };
 
-/// \brief The law for the pair (a, b), a the lower global id: false when the two do not touch
-/// (nothing to add), else the force `f` and torque `t` on the sphere of `side` (0: a, 1: b).
-/// The side is applied by selects, not a branch (it is as good as random per pair).
-inline bool evaluate_contact(const SphereHot& a, const SphereHot& b, std::uint32_t side,
-                             const ContactLaw& law, Vec3& f, Vec3& t) {
-  const Vec3 d = a.x - b.x;
-  const Real ri = a.r, rj = b.r, d2 = core::dot(d, d);
-  // Clearly apart (a margin far above round-off): skip the square root; else the exact test.
-  if (d2 > (ri + rj) * (ri + rj) * (1 + 1e-9)) return false;
+/// \brief Whether two spheres at squared centre distance d2 with radii summing to rr are clearly
+/// apart: the law's first test, with a margin far above round-off. Symmetric in the pair (d2 and
+/// rr are the same bits either way round), so the inner-list filter and the compaction of
+/// touching contacts apply it from the owned sphere's side.
+inline bool clearly_apart(Real d2, Real rr) {
+  return d2 > rr * rr * (1 + 1e-9);
+}
+
+/// \brief The law for the pair (a, b), a the lower global id, without branches (vector lanes):
+/// the force F on a (b gets -F) and the torques on a (t0) and on b (t1); `touch` is false when the
+/// two do not touch, and the caller then adds nothing (the other outputs are then meaningless,
+/// possibly NaN). std::max(0, .) and std::min(., .) are written as the selects they are.
+inline void contact_law(const Vec3& xa, const Vec3& va, const Vec3& wa, Real ra, const Vec3& xb,
+                        const Vec3& vb, const Vec3& wb, Real rb, const ContactLaw& law, bool& touch,
+                        Vec3& F, Vec3& t0, Vec3& t1) {
+  const Vec3 d = xa - xb;
+  const Real d2 = core::dot(d, d);
   const Real dist = std::sqrt(d2);
-  const Real overlap = ri + rj - dist;
-  if (overlap <= 0 || dist <= 0) return false;
+  const Real overlap = ra + rb - dist;
+  touch = !(clearly_apart(d2, ra + rb) | (overlap <= 0) | (dist <= 0));
   const Vec3 n = d / dist;
-  const Vec3 vrel = (a.v + core::cross(a.w, n * (-ri))) - (b.v + core::cross(b.w, n * rj));
+  const Vec3 vrel = (va + core::cross(wa, n * (-ra))) - (vb + core::cross(wb, n * rb));
   const Real vn = core::dot(vrel, n);
-  const Real fn = std::max(0.0, law.k * overlap - law.c * vn);
+  const Real fn_raw = law.k * overlap - law.c * vn;
+  const Real fn = 0.0 < fn_raw ? fn_raw : 0.0;
   const Vec3 vt = vrel - n * vn;
-  const Real vtn = core::norm(vt);
-  Vec3 ft{};
-  if (vtn > 0) ft = vt * (-std::min(law.mu_c * vtn, law.mu * fn) / vtn);
-  const Vec3 F = n * fn + ft;
-  const Vec3 t0 = core::cross(n * (-ri), ft), t1 = core::cross(n * rj, -ft);
-  const bool second = side != 0;
-  f = {second ? -F.x : F.x, second ? -F.y : F.y, second ? -F.z : F.z};
-  t = {second ? t1.x : t0.x, second ? t1.y : t0.y, second ? t1.z : t0.z};
-  return true;
+  const Real vtn = std::sqrt(core::dot(vt, vt));
+  // Viscous friction capped by Coulomb: -min(mu_c |v_t|, mu f_n) v_t / |v_t|.
+  const Real slip = law.mu_c * vtn, cap = law.mu * fn;
+  const Real s = -(cap < slip ? cap : slip) / vtn;
+  const bool sliding = vtn > 0;
+  const Vec3 ft{sliding ? vt.x * s : 0.0, sliding ? vt.y * s : 0.0, sliding ? vt.z * s : 0.0};
+  F = n * fn + ft;
+  t0 = core::cross(n * (-ra), ft), t1 = core::cross(n * rb, -ft);
 }
 
 }  // namespace biota::models::plants

@@ -361,11 +361,9 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       }
     }
   }
-  // Contacts are evaluated inside the per-sphere sum below, from each owned side (a pair of two
-  // owned spheres twice, with the same inputs in the same orientation, so both get the bits a
-  // single evaluation gave): the result needs no store to and load from a scattered slot, which
-  // cost more than the arithmetic. A pair not touching adds nothing (the former +0 / skip).
-  // The contact loop reads its partners in no particular order: their position, velocity,
+  // Contacts are evaluated from each owned side (a pair of two owned spheres twice, with the same
+  // inputs in the same orientation, so both get the bits a single evaluation gave): no scattered
+  // result slot. Their phase reads the partners in no particular order: position, velocity,
   // angular velocity and radius are copied into one record per sphere first (two cache lines per
   // partner instead of ten columns).
   const std::size_t nt = set_.n_total();
@@ -415,9 +413,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
         const Hot& hj = hot[e.index];
         const Vec3 d = hot[i].x - hj.x;
         const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
-        // Beyond the reach and failing evaluate_contact's first test (this very d2, the pair's d
-        // up to an exact sign, against the same bound): cannot touch before the next filter.
-        if (d2 >= reach * reach && d2 > rr * rr * (1 + 1e-9)) continue;
+        // Beyond the reach and failing the law's first test: cannot touch before the next filter.
+        if (d2 >= reach * reach && clearly_apart(d2, rr)) continue;
         near_.push_back({e.index, static_cast<std::uint32_t>(i) << 1 | e.side});
       }
   }
@@ -431,9 +428,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     const Near e = near_[k];
     const Hot &hi = hot[e.owner_side >> 1], &hj = hot[e.index];
     const Vec3 d = hi.x - hj.x;
-    const Real rr = hi.r + hj.r, d2 = core::dot(d, d);
     touch[n_touch] = static_cast<std::uint32_t>(k);
-    n_touch += d2 > rr * rr * (1 + 1e-9) ? 0 : 1;  // evaluate_contact's first test
+    n_touch += clearly_apart(core::dot(d, d), hi.r + hj.r) ? 0 : 1;
   }
   // The laws in vector blocks of kContactBlock pairs (the last block padded with its first
   // pair, whose copies are not added); a block's results are added in list order.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <random>
@@ -14,9 +15,35 @@ namespace {
 bool same_bits(double a, double b) {
   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
+
+// The law as the seaweed model states it, scalar and with its early returns (the form the
+// production code had before it was written branch-free for vector lanes): false when the pair
+// does not touch, else the force and torque on the sphere of `side` (0: a, the lower id).
+bool reference_contact(const SphereHot& a, const SphereHot& b, std::uint32_t side,
+                       const ContactLaw& law, Vec3& f, Vec3& t) {
+  const Vec3 d = a.x - b.x;
+  const double ri = a.r, rj = b.r, d2 = biota::core::dot(d, d);
+  if (d2 > (ri + rj) * (ri + rj) * (1 + 1e-9)) return false;
+  const double dist = biota::core::norm(d);
+  const double overlap = ri + rj - dist;
+  if (overlap <= 0 || dist <= 0) return false;
+  const Vec3 n = d / dist;
+  const Vec3 vrel =
+      (a.v + biota::core::cross(a.w, n * (-ri))) - (b.v + biota::core::cross(b.w, n * rj));
+  const double vn = biota::core::dot(vrel, n);
+  const double fn = std::max(0.0, law.k * overlap - law.c * vn);
+  const Vec3 vt = vrel - n * vn;
+  const double vtn = biota::core::norm(vt);
+  Vec3 ft{};
+  if (vtn > 0) ft = vt * (-std::min(law.mu_c * vtn, law.mu * fn) / vtn);
+  const Vec3 F = n * fn + ft;
+  f = side == 0 ? F : -F;
+  t = side == 0 ? biota::core::cross(n * (-ri), ft) : biota::core::cross(n * rj, -ft);
+  return true;
+}
 }  // namespace
 
-// The vector block must give every pair the scalar law's bits, on either sphere of the pair
+// The vector block must give every pair the reference law's bits, on either sphere of the pair
 // (the seaweed's results on 1, 2 and 3 ranks rest on this), and +0 where the pair does not touch.
 TEST(SeaweedContactBlock, LanesGiveTheScalarLawsBitsOnBothSides) {
   const ContactLaw law{50, 0.01, 0.5, 0.01};
@@ -40,7 +67,7 @@ TEST(SeaweedContactBlock, LanesGiveTheScalarLawsBitsOnBothSides) {
     evaluate_contact_block(hot.data(), a, b, side, law, out);
     for (int l = 0; l < kContactBlock; ++l) {
       Vec3 f, t;
-      const bool touches = evaluate_contact(hot[a[l]], hot[b[l]], side[l], law, f, t);
+      const bool touches = reference_contact(hot[a[l]], hot[b[l]], side[l], law, f, t);
       touches ? ++touching : ++apart;
       const Vec3 fb{out.fx[l], out.fy[l], out.fz[l]}, tb{out.tx[l], out.ty[l], out.tz[l]};
       for (int d = 0; d < 3; ++d) {
