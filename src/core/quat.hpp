@@ -51,14 +51,23 @@ struct Quat {
     const Real t2 = 0.25 * w2 * dt * dt;  // theta^2
     Real c, s_over_w;
     if (t2 < 1e-4) {
-      c = 1 + t2 * (-1.0 / 2 + t2 * (1.0 / 24 + t2 * (-1.0 / 720 + t2 * (1.0 / 40320))));
-      s_over_w =
-          0.5 * dt * (1 + t2 * (-1.0 / 6 + t2 * (1.0 / 120 + t2 * (-1.0 / 5040 + t2 / 362880))));
+      small_rotation(t2, dt, c, s_over_w);
     } else {
       const Real wn = std::sqrt(w2), half = 0.5 * wn * dt;
       c = std::cos(half);
       s_over_w = std::sin(half) / wn;
     }
+    return rotated(c, omega, s_over_w);
+  }
+  /// \brief integrated()'s cos(theta) and sin(theta) / |omega| for theta^2 = t2 < 1e-4, from
+  /// their Taylor series (no branch: vector lanes use it too).
+  static void small_rotation(Real t2, Real dt, Real& c, Real& s_over_w) {
+    c = 1 + t2 * (-1.0 / 2 + t2 * (1.0 / 24 + t2 * (-1.0 / 720 + t2 * (1.0 / 40320))));
+    s_over_w =
+        0.5 * dt * (1 + t2 * (-1.0 / 6 + t2 * (1.0 / 120 + t2 * (-1.0 / 5040 + t2 / 362880))));
+  }
+  /// \brief integrated()'s last step: r * this, normalised, with r = (c, omega s_over_w).
+  Quat rotated(Real c, const Vec3& omega, Real s_over_w) const {
     const Quat r{c, omega.x * s_over_w, omega.y * s_over_w, omega.z * s_over_w};
     return (r * (*this)).normalized();
   }

@@ -57,21 +57,13 @@ void integrate_spheres(const SphereColumns& c, std::size_t n, Real h, Real h_ove
       const Real t2 = 0.25 * w2 * h * h;
       const bool is_large = !still & !(t2 < 1e-4);
       large[l] = is_large ? 1.0 : 0.0;
-      const Real cw =
-          1 + t2 * (-1.0 / 2 + t2 * (1.0 / 24 + t2 * (-1.0 / 720 + t2 * (1.0 / 40320))));
-      const Real sw =
-          0.5 * h * (1 + t2 * (-1.0 / 6 + t2 * (1.0 / 120 + t2 * (-1.0 / 5040 + t2 / 362880))));
-      const Real rx = wx[l] * sw, ry = wy[l] * sw, rz = wz[l] * sw;
-      const Real aw = qw[l], ax = qx[l], ay = qy[l], az = qz[l];
-      // r * q, then normalized (core::Quat's operator* and normalized()).
-      const Real mw = cw * aw - rx * ax - ry * ay - rz * az;
-      const Real mx = cw * ax + rx * aw + ry * az - rz * ay;
-      const Real my = cw * ay - rx * az + ry * aw + rz * ax;
-      const Real mz = cw * az + rx * ay - ry * ax + rz * aw;
-      const Real norm = std::sqrt(mw * mw + mx * mx + my * my + mz * mz);
+      Real cw, sw;
+      core::Quat::small_rotation(t2, h, cw, sw);
+      const core::Quat q0{qw[l], qx[l], qy[l], qz[l]};
+      const core::Quat q1 = q0.rotated(cw, {wx[l], wy[l], wz[l]}, sw);
       const bool keep = still | is_large;
-      qw[l] = keep ? aw : mw / norm, qx[l] = keep ? ax : mx / norm;
-      qy[l] = keep ? ay : my / norm, qz[l] = keep ? az : mz / norm;
+      qw[l] = keep ? q0.w : q1.w, qx[l] = keep ? q0.x : q1.x;
+      qy[l] = keep ? q0.y : q1.y, qz[l] = keep ? q0.z : q1.z;
     }
     for (int l = 0; l < B; ++l)
       if (large[l] != 0) {

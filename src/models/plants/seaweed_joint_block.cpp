@@ -48,6 +48,17 @@ inline void cross_add(const V& a, const V& b, const V& c, bool subtract, V& o) {
   }
 }
 
+/// atan(z) / z from z2 = z^2 < 0.01: the alternating series to z^16 (first dropped term below
+/// 1e-19).
+inline Real atan_over_z(Real z2) {
+  return 1 +
+         z2 * (-1.0 / 3 +
+               z2 * (1.0 / 5 +
+                     z2 * (-1.0 / 7 +
+                           z2 * (1.0 / 9 + z2 * (-1.0 / 11 +
+                                                 z2 * (1.0 / 13 + z2 * (-1.0 / 15 + z2 / 17)))))));
+}
+
 }  // namespace
 
 void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k, Real bend_c) {
@@ -95,20 +106,15 @@ void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k
   for (int l = 0; l < B; ++l) {
     const Real inv_w = 1 / rel.w[l];
     z2[l] = s[l] * s[l] * inv_w * inv_w;
-    const Real z = z2[l];
-    const Real p =
-        1 +
-        z * (-1.0 / 3 +
-             z * (1.0 / 5 + z * (-1.0 / 7 +
-                                 z * (1.0 / 9 + z * (-1.0 / 11 +
-                                                     z * (1.0 / 13 + z * (-1.0 / 15 + z / 17)))))));
+    const Real p = atan_over_z(z2[l]);
     f[l] = s[l] < 1e-12 ? 2.0 : 2 * inv_w * p;
   }
   // Bends of 11 to 90 degrees (z^2 from 0.01 to 1): three half-angle steps, atan2(s, w) =
   // 2 atan2(s, w + sqrt(w^2 + s^2)), bring z below 0.0985 (z^2 < 0.0097), where the series
   // holds; vector lanes for the whole block when any lane needs it. Beyond 90 degrees: libm.
+  const auto mid_bend = [&](int l) { return s[l] >= 1e-12 && !(z2[l] < 0.01) && z2[l] < 1; };
   int mid = 0;
-  for (int l = 0; l < B; ++l) mid += s[l] >= 1e-12 && !(z2[l] < 0.01) && z2[l] < 1;
+  for (int l = 0; l < B; ++l) mid += mid_bend(l);
   if (mid > 0) {
     Real fh[B];
     for (int l = 0; l < B; ++l) {
@@ -118,16 +124,11 @@ void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k
       wh = wh + std::sqrt(wh * wh + s2);
       wh = wh + std::sqrt(wh * wh + s2);
       const Real inv_w = 1 / wh, z = s2 * inv_w * inv_w;
-      const Real p =
-          1 + z * (-1.0 / 3 +
-                   z * (1.0 / 5 +
-                        z * (-1.0 / 7 +
-                             z * (1.0 / 9 +
-                                  z * (-1.0 / 11 + z * (1.0 / 13 + z * (-1.0 / 15 + z / 17)))))));
+      const Real p = atan_over_z(z);
       fh[l] = 16 * inv_w * p;
     }
     for (int l = 0; l < B; ++l)
-      if (s[l] >= 1e-12 && !(z2[l] < 0.01) && z2[l] < 1) f[l] = fh[l];
+      if (mid_bend(l)) f[l] = fh[l];
   }
   for (int l = 0; l < B; ++l)
     if (s[l] >= 1e-12 && !(z2[l] < 1)) f[l] = (2 * std::atan2(s[l], rel.w[l])) / s[l];
