@@ -204,14 +204,17 @@ void SeaweedBodies::rebuild_lists() {
     if (c < no || p < no) joints_.emplace_back(c, p);
   }
   skipped_joints_ = skipped;
-  // Per owned sphere: its joints, then its contacts, each sorted by (partner id, kind) -- the
-  // fixed summation order.
-  // Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
+  // Joints in the order of their child's global id: a sphere's parent has a lower id than the
+  // sphere and its children higher ones (for_each_sphere numbers a parent first), so adding each
+  // joint's result to its owned spheres in this order sums a sphere's joints by partner id -- the
+  // joint as child first, then those as parent by child id -- without a slot per result.
+  std::sort(joints_.begin(), joints_.end(),
+            [&](const auto& a, const auto& b) { return ids[a.first] < ids[b.first]; });
+  joint_parent_id_.resize(joints_.size());
+  for (std::size_t m = 0; m < joints_.size(); ++m) joint_parent_id_[m] = ids[joints_[m].second];
+  // Per owned sphere: its contacts sorted by partner id -- the fixed summation order after the
+  // joints. Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
   adj_begin_.assign(no + 1, 0);
-  for (const auto& [c, p] : joints_) {
-    if (c < no) ++adj_begin_[c + 1];
-    if (p < no) ++adj_begin_[p + 1];
-  }
   for (const auto& [i, j] : pairs_) {
     if (i < no) ++adj_begin_[i + 1];
     if (j < no) ++adj_begin_[j + 1];
@@ -219,38 +222,15 @@ void SeaweedBodies::rebuild_lists() {
   for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
   entries_.resize(adj_begin_[no]);
   std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
-  const auto key = [&](std::size_t partner, std::uint64_t kind) {
-    return ids[partner] << 2 | kind;
-  };
-  for (std::size_t m = 0; m < joints_.size(); ++m) {
-    const auto [c, p] = joints_[m];
-    if (c < no) entries_[fill[c]++] = {key(p, 0), static_cast<std::uint32_t>(m), 0};
-    if (p < no) entries_[fill[p]++] = {key(c, 1), static_cast<std::uint32_t>(m), 1};
-  }
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
     const auto [i, j] = pairs_[m];
-    // A contact entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
-    if (i < no) entries_[fill[i]++] = {key(j, 2), static_cast<std::uint32_t>(j), 0};
-    if (j < no) entries_[fill[j]++] = {key(i, 2), static_cast<std::uint32_t>(i), 1};
+    // An entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
+    if (i < no) entries_[fill[i]++] = {ids[j], static_cast<std::uint32_t>(j), 0};
+    if (j < no) entries_[fill[j]++] = {ids[i], static_cast<std::uint32_t>(i), 1};
   }
-  // Joint results are stored densely in summation order: slot_[2 m + side] is the position of
-  // joint m's result on that side's sphere among all joint entries.
-  slot_.assign(2 * joints_.size(), kNoSlot);
-  joint_count_.resize(no);
-  slot_owner_.clear();
-  std::uint32_t nslots = 0;
-  for (std::size_t i = 0; i < no; ++i) {
-    const auto b = entries_.begin() + adj_begin_[i], e = entries_.begin() + adj_begin_[i + 1];
-    std::sort(b, e, [](const Entry& x, const Entry& y) {
-      return std::pair(x.kind() == 2, x.key) < std::pair(y.kind() == 2, y.key);
-    });
-    joint_count_[i] = 0;
-    for (auto it = b; it != e && it->kind() != 2; ++it, ++joint_count_[i]) {
-      slot_[2 * it->index + it->side] = nslots++;
-      slot_owner_.push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-  contrib_.resize(nslots);
+  for (std::size_t i = 0; i < no; ++i)
+    std::sort(entries_.begin() + adj_begin_[i], entries_.begin() + adj_begin_[i + 1],
+              [](const Entry& x, const Entry& y) { return x.partner < y.partner; });
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -283,7 +263,6 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   Real *fx = set_.real(a_force, 0), *fy = set_.real(a_force, 1), *fz = set_.real(a_force, 2);
   Real *tx = set_.real(a_torque, 0), *ty = set_.real(a_torque, 1), *tz = set_.real(a_torque, 2);
   Real *ix = set_.real(a_imp, 0), *iy = set_.real(a_imp, 1), *iz = set_.real(a_imp, 2);
-  const GlobalId* ids = cs.u64(ParticleSet::kId);
   const Real *qw = set_.real(a_quat, 0), *qx = set_.real(a_quat, 1), *qy = set_.real(a_quat, 2),
              *qz = set_.real(a_quat, 3);
   const Real *rw = set_.real(a_qrest, 0), *rx = set_.real(a_qrest, 1), *ry = set_.real(a_qrest, 2),
@@ -291,19 +270,34 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   const Real* rad = set_.real(a_radius);
   const std::uint64_t* parent = set_.u64(u_parent);
   Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
-  // Joint results go straight to their summation slots on the owned spheres they act on (slot_;
-  // chains are stored in order, so these writes are nearly sequential). Every slot is written
-  // each sub-step; a broken joint writes +0 vectors, which the sum adds as an exact no-op (the
-  // sums start from +0 or a nonzero value and, rounding to nearest, can never become -0), so
-  // this equals skipping it bit for bit.
+  // The sum on each owned sphere: body forces, then its joints, then its contacts, each group
+  // by partner id (an order of global ids only, so the same on any rank count). Each phase runs
+  // over all spheres at once, adding into the force columns in that order: no loop per sphere
+  // whose varying length the core mispredicts at every exit.
+  BodyForceLaw body{
+      weight.z, 0.5 * p_.drag_cd * p_.water_density * area, dt_sub, p_.contact_k, p_.contact_c, {},
+      {}};
+  for (int d = 0; d < 3; ++d) {
+    const bool periodic = comm_.decomposition().periodic(d);
+    body.wall_lo[d] = periodic ? -INFINITY : comm_.domain_lo()[d] + p_.radius;
+    body.wall_hi[d] = periodic ? INFINITY : comm_.domain_hi()[d] - p_.radius;
+  }
+  body_forces(body,
+              {{x.c0, x.c1, x.c2},
+               {v.c0, v.c1, v.c2},
+               {uf.c0, uf.c1, uf.c2},
+               {fx, fy, fz},
+               {tx, ty, tz},
+               {ix, iy, iz}},
+              no);
+  // Joint results are added to their owned spheres as they come, in joints_'s order (child id),
+  // which is each sphere's joint order by partner id (rebuild_lists).
   const std::size_t nj = joints_.size();
-  Contrib* out = contrib_.data();
-  const std::uint32_t* slot = slot_.data();
-  auto put = [&](std::size_t m, const Vec3& f0, const Vec3& t0, const Vec3& f1, const Vec3& t1) {
-    if (slot[2 * m] != kNoSlot) out[slot[2 * m]] = {f0, t0};
-    if (slot[2 * m + 1] != kNoSlot) out[slot[2 * m + 1]] = {f1, t1};
+  const GlobalId* joint_parent_id = joint_parent_id_.data();
+  const auto add = [&](std::size_t i, const Vec3& f, const Vec3& t) {
+    fx[i] = fx[i] + f.x, fy[i] = fy[i] + f.y, fz[i] = fz[i] + f.z;
+    tx[i] = tx[i] + t.x, ty[i] = ty[i] + t.y, tz[i] = tz[i] + t.z;
   };
-  const Vec3 zero{};
   // Joints: evaluated by the owner of either sphere with the child's (ghost-refreshed) data, in
   // blocks of kJointBlock (gathered into SoA lanes, evaluated with vector instructions, bitwise
   // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
@@ -347,13 +341,12 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     for (int l = 0; l < lanes; ++l) {
       const std::size_t m = m0 + l;
       const auto [i, j] = joints_[m];
-      if (parent[i] != ids[j]) {  // broken since the list was built
-        put(m, zero, zero, zero, zero);
-        continue;
-      }
+      if (parent[i] != joint_parent_id[m]) continue;  // broken since the list was built
       const Vec3 F{jb.F.x[l], jb.F.y[l], jb.F.z[l]};
-      put(m, F, {jb.tc.x[l], jb.tc.y[l], jb.tc.z[l]}, -F, {jb.tp.x[l], jb.tp.y[l], jb.tp.z[l]});
-      if (i < no) {  // the child's owner records the joint state and decides the break (eq. 8)
+      if (j < no) add(j, -F, {jb.tp.x[l], jb.tp.y[l], jb.tp.z[l]});
+      if (i < no) {
+        add(i, F, {jb.tc.x[l], jb.tc.y[l], jb.tc.z[l]});  // the child's owner records the joint
+                                                          // state and decides the break (eq. 8)
         const Real fm = jb.fm[l], tm = jb.tm[l];
         jforce[i] = fm;
         jtorque[i] = tm;
@@ -371,32 +364,6 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
   const Hot* hot = hot_.data();
   const ContactLaw law{p_.contact_k, p_.contact_c, p_.friction, p_.friction_c};
-  // The sum on each owned sphere: body forces, then its joints, then its contacts, each group
-  // by partner id (an order of global ids only, so the same on any rank count). Each phase runs
-  // over all spheres at once, adding into the force columns in that order: no loop per sphere
-  // whose varying length the core mispredicts at every exit.
-  BodyForceLaw body{
-      weight.z, 0.5 * p_.drag_cd * p_.water_density * area, dt_sub, p_.contact_k, p_.contact_c, {},
-      {}};
-  for (int d = 0; d < 3; ++d) {
-    const bool periodic = comm_.decomposition().periodic(d);
-    body.wall_lo[d] = periodic ? -INFINITY : comm_.domain_lo()[d] + p_.radius;
-    body.wall_hi[d] = periodic ? INFINITY : comm_.domain_hi()[d] - p_.radius;
-  }
-  body_forces(body,
-              {{x.c0, x.c1, x.c2},
-               {v.c0, v.c1, v.c2},
-               {uf.c0, uf.c1, uf.c2},
-               {fx, fy, fz},
-               {tx, ty, tz},
-               {ix, iy, iz}},
-              no);
-  // Joint results, dense in summation order (slot_owner_: the owned sphere of each).
-  for (std::size_t k = 0; k < contrib_.size(); ++k) {
-    const std::uint32_t i = slot_owner_[k];
-    fx[i] = fx[i] + out[k].f.x, fy[i] = fy[i] + out[k].f.y, fz[i] = fz[i] + out[k].f.z;
-    tx[i] = tx[i] + out[k].t.x, ty[i] = ty[i] + out[k].t.y, tz[i] = tz[i] + out[k].t.z;
-  }
   // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
   // the contacts that can still touch are copied, in order; otherwise only those are walked.
   // Dropping a pair that cannot overlap drops an exact no-op, so the sums are unchanged.
@@ -408,7 +375,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     near_.clear();
     const Real s_in = p_.inner_skin;
     for (std::size_t i = 0; i < no; ++i)
-      for (std::size_t k = adj_begin_[i] + joint_count_[i]; k < adj_begin_[i + 1]; ++k) {
+      for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
         const Entry& e = entries_[k];
         const Hot& hj = hot[e.index];
         const Vec3 d = hot[i].x - hj.x;

@@ -118,12 +118,6 @@ class SeaweedBodies {
   int u_plant, u_parent;
 
  private:
-  /// Force and torque of one joint on one owned sphere, stored densely in summation order, so the
-  /// per-sphere sum reads them in memory order (contacts are evaluated inside the sum).
-  struct Contrib {
-    Vec3 f, t;
-  };
-  static constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
   /// What the contact evaluation reads of a sphere, in one record (see compute_forces).
   using Hot = SphereHot;
   std::vector<Hot> hot_;
@@ -137,29 +131,23 @@ class SeaweedBodies {
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;   // contacts (lower id, higher id)
-  std::vector<std::pair<std::size_t, std::size_t>> joints_;  // (child, parent) local slots
-  std::vector<std::size_t> adj_begin_;  // CSR over owned spheres, into entries_
-  // Per joint m and side (0: child, 1: parent): slot 2 m + side holds the position of its result
-  // in contrib_ (dense, in summation order), or kNoSlot when that sphere is a ghost.
-  std::vector<std::uint32_t> slot_;
-  std::vector<Contrib> contrib_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;  // contacts (lower id, higher id)
+  // (child, parent) local slots, in the order of the child's global id (the summation order).
+  std::vector<std::pair<std::size_t, std::size_t>> joints_;
+  std::vector<GlobalId> joint_parent_id_;  // per joint: the parent's id at the list build
+  std::vector<std::size_t> adj_begin_;     // CSR over owned spheres, into entries_
   std::vector<std::size_t> broken_now_;
   std::vector<Vec3> x_build_;  // owned positions at the last list build
   bool built_ = false, need_migrate_ = false;
   long long rebuilds_ = 0;
   std::vector<std::pair<GlobalId, std::size_t>> slots_;  // (global id, local slot), sorted
-  struct Entry {        // one interaction of an owned sphere (rebuild_lists)
-    std::uint64_t key;  // partner global id << 2 | kind (0 joint as child, 1 as parent, 2 contact)
-    std::uint32_t index;
-    std::uint32_t side;  // 0: first sphere of the interaction, 1: second
-    std::uint32_t kind() const { return static_cast<std::uint32_t>(key & 3); }
+  struct Entry {  // one listed contact of an owned sphere (rebuild_lists)
+    GlobalId partner;
+    std::uint32_t index;  // the partner's slot
+    std::uint32_t side;   // 0: the owned sphere has the lower id, 1: the higher
   };
   std::vector<Entry> entries_;
-  // Per owned sphere: its joint entries, which lead its segment of entries_.
-  std::vector<std::uint32_t> joint_count_;
-  std::vector<std::uint32_t> slot_owner_;  // the owned sphere of each joint result in contrib_
-  // Inner list: the contact entries of entries_ that can still touch (closer than the radii plus
+  // Inner list: the entries of entries_ that can still touch (closer than the radii plus
   // inner_skin at the last filter), in the same order, owned sphere by owned sphere.
   struct Near {
     std::uint32_t index;       // partner slot
