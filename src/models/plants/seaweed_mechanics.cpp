@@ -191,7 +191,12 @@ void SeaweedBodies::rebuild_lists() {
   });
   joints_.clear();
   long long skipped = 0;
-  for (std::size_t c = 0; c < nt; ++c) {
+  // Joints in the order of their child's global id (slots_ is sorted by id): a sphere's parent
+  // has a lower id than the sphere and its children higher ones (for_each_sphere numbers a
+  // parent first), so adding each joint's result to its owned spheres in this order sums a
+  // sphere's joints by partner id -- the joint as child first, then those as parent by child id
+  // -- without a slot per result.
+  for (const auto& [child_id, c] : slots_) {
     const GlobalId pid = set_.u64(u_parent)[c];
     if (pid == kNoId) continue;
     const std::size_t p = find_near(pid, set_.pos(c));
@@ -204,12 +209,6 @@ void SeaweedBodies::rebuild_lists() {
     if (c < no || p < no) joints_.emplace_back(c, p);
   }
   skipped_joints_ = skipped;
-  // Joints in the order of their child's global id: a sphere's parent has a lower id than the
-  // sphere and its children higher ones (for_each_sphere numbers a parent first), so adding each
-  // joint's result to its owned spheres in this order sums a sphere's joints by partner id -- the
-  // joint as child first, then those as parent by child id -- without a slot per result.
-  std::sort(joints_.begin(), joints_.end(),
-            [&](const auto& a, const auto& b) { return ids[a.first] < ids[b.first]; });
   joint_parent_id_.resize(joints_.size());
   for (std::size_t m = 0; m < joints_.size(); ++m) joint_parent_id_[m] = ids[joints_[m].second];
   // Per owned sphere: its contacts sorted by partner id -- the fixed summation order after the
