@@ -5,13 +5,10 @@
 namespace biota::models::plants {
 
 void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const std::uint32_t* b,
-                            const std::uint32_t* side, const ContactLaw& law,
-                            ContactBlockOut& out) {
+                            const ContactLaw& law, ContactBlockOut& out) {
   constexpr int B = kContactBlock;
-  // The lanes' inputs first (indexed loads), then the law on whole lanes. Masks stay in doubles
-  // (sd: 1 for side 1): GCC 12 does not vectorise loops mixing 4- or 1-byte lanes with 8-byte
-  // ones, nor && and ||.
-  Real xi[3][B], vi[3][B], wi[3][B], ri[B], xj[3][B], vj[3][B], wj[3][B], rj[B], sd[B];
+  // The lanes' inputs first (indexed loads), then the law on whole lanes.
+  Real xi[3][B], vi[3][B], wi[3][B], ri[B], xj[3][B], vj[3][B], wj[3][B], rj[B];
   for (int l = 0; l < B; ++l) {
     const SphereHot &p = hot[a[l]], &q = hot[b[l]];
     xi[0][l] = p.x.x, xi[1][l] = p.x.y, xi[2][l] = p.x.z;
@@ -21,7 +18,6 @@ void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const 
     vj[0][l] = q.v.x, vj[1][l] = q.v.y, vj[2][l] = q.v.z;
     wj[0][l] = q.w.x, wj[1][l] = q.w.y, wj[2][l] = q.w.z;
     ri[l] = p.r, rj[l] = q.r;
-    sd[l] = side[l] != 0 ? 1.0 : 0.0;
   }
   // The law on whole lanes; a lane that does not touch computes on and is zeroed at the end
   // (its NaNs or infinities stay in that lane).
@@ -32,13 +28,11 @@ void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const 
                 {wi[0][l], wi[1][l], wi[2][l]}, ri[l], {xj[0][l], xj[1][l], xj[2][l]},
                 {vj[0][l], vj[1][l], vj[2][l]}, {wj[0][l], wj[1][l], wj[2][l]}, rj[l], law, touch,
                 F, t0, t1);
-    const bool second = sd[l] != 0.0;
-    out.fx[l] = touch ? (second ? -F.x : F.x) : 0.0;
-    out.fy[l] = touch ? (second ? -F.y : F.y) : 0.0;
-    out.fz[l] = touch ? (second ? -F.z : F.z) : 0.0;
-    out.tx[l] = touch ? (second ? t1.x : t0.x) : 0.0;
-    out.ty[l] = touch ? (second ? t1.y : t0.y) : 0.0;
-    out.tz[l] = touch ? (second ? t1.z : t0.z) : 0.0;
+    out.fx[l] = touch ? F.x : 0.0, out.fy[l] = touch ? F.y : 0.0, out.fz[l] = touch ? F.z : 0.0;
+    out.tax[l] = touch ? t0.x : 0.0, out.tay[l] = touch ? t0.y : 0.0;
+    out.taz[l] = touch ? t0.z : 0.0;
+    out.tbx[l] = touch ? t1.x : 0.0, out.tby[l] = touch ? t1.y : 0.0;
+    out.tbz[l] = touch ? t1.z : 0.0;
   }
 }
 

@@ -12,16 +12,16 @@ namespace biota::models::plants {
 
 inline constexpr int kContactBlock = 8;
 
-/// \brief Results of a block, one lane per pair: force and torque on the sphere of that lane's
-/// side, +0 where the pair does not touch.
+/// \brief Results of a block, one lane per pair (a, b): the force f on a (b gets -f) and the
+/// torques ta on a and tb on b; +0 where the pair does not touch.
 struct ContactBlockOut {
   using Lane = Real[kContactBlock];
-  Lane fx, fy, fz, tx, ty, tz;
+  Lane fx, fy, fz, tax, tay, taz, tbx, tby, tbz;
 };
 
-/// \brief The law for the pairs (a[l], b[l]) of slots in `hot` (lower global id first), each on
-/// the sphere of side[l] (0: a, 1: b).
+/// \brief The law for the pairs (a[l], b[l]) of slots in `hot` (lower global id first): one
+/// evaluation gives both spheres' results.
 void evaluate_contact_block(const SphereHot* hot, const std::uint32_t* a, const std::uint32_t* b,
-                            const std::uint32_t* side, const ContactLaw& law, ContactBlockOut& out);
+                            const ContactLaw& law, ContactBlockOut& out);
 
 }  // namespace biota::models::plants

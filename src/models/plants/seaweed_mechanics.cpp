@@ -211,25 +211,27 @@ void SeaweedBodies::rebuild_lists() {
   skipped_joints_ = skipped;
   joint_parent_id_.resize(joints_.size());
   for (std::size_t m = 0; m < joints_.size(); ++m) joint_parent_id_[m] = ids[joints_[m].second];
-  // Per owned sphere: its contacts sorted by partner id -- the fixed summation order after the
-  // joints. Flat CSR of the entries (counted, then filled), each sphere's segment then sorted.
-  adj_begin_.assign(no + 1, 0);
-  for (const auto& [i, j] : pairs_) {
-    if (i < no) ++adj_begin_[i + 1];
-    if (j < no) ++adj_begin_[j + 1];
+  // Contacts once per pair, ordered by (lower id, higher id): a sphere s meets its pairs (p, s),
+  // p < s, by increasing p, all before its pairs (s, q) by increasing q -- its contacts by partner
+  // id, the fixed summation order after the joints. Built as a CSR by lower sphere (counted,
+  // filled, each short segment sorted by partner id), read out in id order through slots_.
+  std::vector<std::uint32_t> begin(nt + 1, 0), upper(pairs_.size());
+  for (const auto& pr : pairs_) ++begin[pr.first + 1];
+  for (std::size_t i = 0; i < nt; ++i) begin[i + 1] += begin[i];
+  std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
+  for (const auto& [i, j] : pairs_) upper[fill[i]++] = static_cast<std::uint32_t>(j);
+  const auto by_id = [&](std::uint32_t x, std::uint32_t y) {
+    return ids[x] != ids[y] ? ids[x] < ids[y] : x < y;
+  };
+  contact_pairs_.clear();
+  contact_pairs_.reserve(pairs_.size());
+  for (const auto& [id, lower] : slots_) {
+    std::uint32_t* seg = upper.data() + begin[lower];
+    std::uint32_t* seg_end = upper.data() + begin[lower + 1];
+    std::sort(seg, seg_end, by_id);
+    for (; seg != seg_end; ++seg)
+      contact_pairs_.push_back({static_cast<std::uint32_t>(lower), *seg});
   }
-  for (std::size_t i = 0; i < no; ++i) adj_begin_[i + 1] += adj_begin_[i];
-  entries_.resize(adj_begin_[no]);
-  std::vector<std::size_t> fill(adj_begin_.begin(), adj_begin_.end() - 1);
-  for (std::size_t m = 0; m < pairs_.size(); ++m) {
-    const auto [i, j] = pairs_[m];
-    // An entry keeps the partner's slot (the pair is re-oriented from `side` in the sum).
-    if (i < no) entries_[fill[i]++] = {ids[j], static_cast<std::uint32_t>(j), 0};
-    if (j < no) entries_[fill[j]++] = {ids[i], static_cast<std::uint32_t>(i), 1};
-  }
-  for (std::size_t i = 0; i < no; ++i)
-    std::sort(entries_.begin() + adj_begin_[i], entries_.begin() + adj_begin_[i + 1],
-              [](const Entry& x, const Entry& y) { return x.partner < y.partner; });
 }
 
 void SeaweedBodies::sample_fluid(const VelocityFn& u) {
@@ -353,11 +355,9 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       }
     }
   }
-  // Contacts are evaluated from each owned side (a pair of two owned spheres twice, with the same
-  // inputs in the same orientation, so both get the bits a single evaluation gave): no scattered
-  // result slot. Their phase reads the partners in no particular order: position, velocity,
-  // angular velocity and radius are copied into one record per sphere first (two cache lines per
-  // partner instead of ten columns).
+  // Contacts: each pair once, both results added as they come (rebuild_lists). Their phase reads
+  // the partners in no particular order: position, velocity, angular velocity and radius are copied
+  // into one record per sphere first (two cache lines per partner instead of ten columns).
   const std::size_t nt = set_.n_total();
   hot_.resize(nt);
   for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
@@ -373,16 +373,14 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     for (std::size_t k = 0; k < nt; ++k) x_filter_[k] = hot[k].x;
     near_.clear();
     const Real s_in = p_.inner_skin;
-    for (std::size_t i = 0; i < no; ++i)
-      for (std::size_t k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-        const Entry& e = entries_[k];
-        const Hot& hj = hot[e.index];
-        const Vec3 d = hot[i].x - hj.x;
-        const Real rr = hot[i].r + hj.r, reach = rr + s_in, d2 = core::dot(d, d);
-        // Beyond the reach and failing the law's first test: cannot touch before the next filter.
-        if (d2 >= reach * reach && clearly_apart(d2, rr)) continue;
-        near_.push_back({e.index, static_cast<std::uint32_t>(i) << 1 | e.side});
-      }
+    for (const ContactPair& pr : contact_pairs_) {
+      const Hot &ha = hot[pr.a], &hb = hot[pr.b];
+      const Vec3 d = ha.x - hb.x;
+      const Real rr = ha.r + hb.r, reach = rr + s_in, d2 = core::dot(d, d);
+      // Beyond the reach and failing the law's first test: cannot touch before the next filter.
+      if (d2 >= reach * reach && clearly_apart(d2, rr)) continue;
+      near_.push_back(pr);
+    }
   }
   // Touching contacts compacted first without a branch on the test, then their laws: a branch
   // per candidate ("touches?", ~50%) and per orientation mispredicts, and each miss discards
@@ -391,29 +389,34 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   std::uint32_t* touch = touch_.data();
   std::size_t n_touch = 0;
   for (std::size_t k = 0; k < near_.size(); ++k) {
-    const Near e = near_[k];
-    const Hot &hi = hot[e.owner_side >> 1], &hj = hot[e.index];
-    const Vec3 d = hi.x - hj.x;
+    const ContactPair e = near_[k];
+    const Hot &ha = hot[e.a], &hb = hot[e.b];
+    const Vec3 d = ha.x - hb.x;
     touch[n_touch] = static_cast<std::uint32_t>(k);
-    n_touch += clearly_apart(core::dot(d, d), hi.r + hj.r) ? 0 : 1;
+    n_touch += clearly_apart(core::dot(d, d), ha.r + hb.r) ? 0 : 1;
   }
   // The laws in vector blocks of kContactBlock pairs (the last block padded with its first
-  // pair, whose copies are not added); a block's results are added in list order.
+  // pair, whose copies are not added); a block's results are added in list order, each pair's
+  // to those of its two spheres this rank owns (b gets -f: x + (-f) is x - f, bit for bit).
   ContactBlockOut r;
-  std::uint32_t a[kContactBlock], b[kContactBlock], side[kContactBlock], owner[kContactBlock];
+  std::uint32_t a[kContactBlock], b[kContactBlock];
   for (std::size_t c0 = 0; c0 < n_touch; c0 += kContactBlock) {
     const int lanes = static_cast<int>(std::min<std::size_t>(kContactBlock, n_touch - c0));
     for (int l = 0; l < kContactBlock; ++l) {
-      const Near e = near_[touch[c0 + (l < lanes ? l : 0)]];
-      owner[l] = e.owner_side >> 1, side[l] = e.owner_side & 1;
-      a[l] = side[l] ? e.index : owner[l], b[l] = side[l] ? owner[l] : e.index;
+      const ContactPair e = near_[touch[c0 + (l < lanes ? l : 0)]];
+      a[l] = e.a, b[l] = e.b;
     }
-    evaluate_contact_block(hot, a, b, side, law, r);
-    // A lane that does not touch after all adds +0: exact, the sums are never -0.
+    evaluate_contact_block(hot, a, b, law, r);
+    // A lane that does not touch after all adds +0 (and -0 to b): exact, the sums are never -0.
     for (int l = 0; l < lanes; ++l) {
-      const std::uint32_t i = owner[l];
-      fx[i] = fx[i] + r.fx[l], fy[i] = fy[i] + r.fy[l], fz[i] = fz[i] + r.fz[l];
-      tx[i] = tx[i] + r.tx[l], ty[i] = ty[i] + r.ty[l], tz[i] = tz[i] + r.tz[l];
+      if (const std::uint32_t i = a[l]; i < no) {
+        fx[i] = fx[i] + r.fx[l], fy[i] = fy[i] + r.fy[l], fz[i] = fz[i] + r.fz[l];
+        tx[i] = tx[i] + r.tax[l], ty[i] = ty[i] + r.tay[l], tz[i] = tz[i] + r.taz[l];
+      }
+      if (const std::uint32_t j = b[l]; j < no) {
+        fx[j] = fx[j] + -r.fx[l], fy[j] = fy[j] + -r.fy[l], fz[j] = fz[j] + -r.fz[l];
+        tx[j] = tx[j] + r.tbx[l], ty[j] = ty[j] + r.tby[l], tz[j] = tz[j] + r.tbz[l];
+      }
     }
   }
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).

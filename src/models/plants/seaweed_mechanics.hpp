@@ -135,25 +135,21 @@ class SeaweedBodies {
   // (child, parent) local slots, in the order of the child's global id (the summation order).
   std::vector<std::pair<std::size_t, std::size_t>> joints_;
   std::vector<GlobalId> joint_parent_id_;  // per joint: the parent's id at the list build
-  std::vector<std::size_t> adj_begin_;     // CSR over owned spheres, into entries_
   std::vector<std::size_t> broken_now_;
   std::vector<Vec3> x_build_;  // owned positions at the last list build
   bool built_ = false, need_migrate_ = false;
   long long rebuilds_ = 0;
   std::vector<std::pair<GlobalId, std::size_t>> slots_;  // (global id, local slot), sorted
-  struct Entry {  // one listed contact of an owned sphere (rebuild_lists)
-    GlobalId partner;
-    std::uint32_t index;  // the partner's slot
-    std::uint32_t side;   // 0: the owned sphere has the lower id, 1: the higher
+  // Contacts: each listed pair (slots a, b; id a < id b) once, in the order of (id a, id b),
+  // which is every sphere's contact order by partner id (rebuild_lists), so both results of one
+  // evaluation are added to their owned spheres as they come.
+  struct ContactPair {
+    std::uint32_t a, b;
   };
-  std::vector<Entry> entries_;
-  // Inner list: the entries of entries_ that can still touch (closer than the radii plus
-  // inner_skin at the last filter), in the same order, owned sphere by owned sphere.
-  struct Near {
-    std::uint32_t index;       // partner slot
-    std::uint32_t owner_side;  // owned sphere << 1 | side (1: the owned sphere has the higher id)
-  };
-  std::vector<Near> near_;
+  std::vector<ContactPair> contact_pairs_;
+  // Inner list: the pairs of contact_pairs_ that can still touch (closer than the radii plus
+  // inner_skin at the last filter), in the same order.
+  std::vector<ContactPair> near_;
   std::vector<std::uint32_t> touch_;  // scratch: positions in near_ of the touching contacts
   std::vector<Vec3> x_filter_;        // owned and ghost positions at the last filter
   bool need_filter_ = true;
