@@ -176,7 +176,7 @@ void SeaweedBodies::rebuild_lists() {
   // so nothing is scattered back and the sum on a sphere never depends on the decomposition.
   // Pairs are oriented (lower id, higher id); the list covers pairs closer than the contact range
   // plus the skin.
-  pairs_.clear();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (lower id, higher id)
   const Real contact_range = 2 * p_.radius + p_.cluster_margin + p_.skin;
   particles::CellList cl(set_.real(ParticleSet::kPos, 0), set_.real(ParticleSet::kPos, 1),
                          set_.real(ParticleSet::kPos, 2), nt, contact_range);
@@ -187,7 +187,9 @@ void SeaweedBodies::rebuild_lists() {
     // Joined neighbours and siblings on one parent do not collide.
     const GlobalId pi = parent[i], pj = parent[j];
     if (pi == ids[j] || pj == ids[i] || (pi == pj && pi != kNoId)) return;
-    pairs_.emplace_back(ids[i] < ids[j] ? i : j, ids[i] < ids[j] ? j : i);
+    const auto lo = static_cast<std::uint32_t>(ids[i] < ids[j] ? i : j);
+    const auto hi = static_cast<std::uint32_t>(ids[i] < ids[j] ? j : i);
+    pairs.emplace_back(lo, hi);
   });
   joints_.clear();
   long long skipped = 0;
@@ -215,16 +217,16 @@ void SeaweedBodies::rebuild_lists() {
   // p < s, by increasing p, all before its pairs (s, q) by increasing q -- its contacts by partner
   // id, the fixed summation order after the joints. Built as a CSR by lower sphere (counted,
   // filled, each short segment sorted by partner id), read out in id order through slots_.
-  std::vector<std::uint32_t> begin(nt + 1, 0), upper(pairs_.size());
-  for (const auto& pr : pairs_) ++begin[pr.first + 1];
+  std::vector<std::uint32_t> begin(nt + 1, 0), upper(pairs.size());
+  for (const auto& pr : pairs) ++begin[pr.first + 1];
   for (std::size_t i = 0; i < nt; ++i) begin[i + 1] += begin[i];
   std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
-  for (const auto& [i, j] : pairs_) upper[fill[i]++] = static_cast<std::uint32_t>(j);
+  for (const auto& [i, j] : pairs) upper[fill[i]++] = j;
   const auto by_id = [&](std::uint32_t x, std::uint32_t y) {
     return ids[x] != ids[y] ? ids[x] < ids[y] : x < y;
   };
   contact_pairs_.clear();
-  contact_pairs_.reserve(pairs_.size());
+  contact_pairs_.reserve(pairs.size());
   for (const auto& [id, lower] : slots_) {
     std::uint32_t* seg = upper.data() + begin[lower];
     std::uint32_t* seg_end = upper.data() + begin[lower + 1];
@@ -409,14 +411,9 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
     evaluate_contact_block(hot, a, b, law, r);
     // A lane that does not touch after all adds +0 (and -0 to b): exact, the sums are never -0.
     for (int l = 0; l < lanes; ++l) {
-      if (const std::uint32_t i = a[l]; i < no) {
-        fx[i] = fx[i] + r.fx[l], fy[i] = fy[i] + r.fy[l], fz[i] = fz[i] + r.fz[l];
-        tx[i] = tx[i] + r.tax[l], ty[i] = ty[i] + r.tay[l], tz[i] = tz[i] + r.taz[l];
-      }
-      if (const std::uint32_t j = b[l]; j < no) {
-        fx[j] = fx[j] + -r.fx[l], fy[j] = fy[j] + -r.fy[l], fz[j] = fz[j] + -r.fz[l];
-        tx[j] = tx[j] + r.tbx[l], ty[j] = ty[j] + r.tby[l], tz[j] = tz[j] + r.tbz[l];
-      }
+      const Vec3 f{r.fx[l], r.fy[l], r.fz[l]};
+      if (a[l] < no) add(a[l], f, {r.tax[l], r.tay[l], r.taz[l]});
+      if (b[l] < no) add(b[l], -f, {r.tbx[l], r.tby[l], r.tbz[l]});
     }
   }
   // Breaks take effect after the step's forces are in (ghost copies see them at the next refresh).
@@ -487,7 +484,7 @@ ClusterMetrics SeaweedBodies::clusters() {
   // and every rank count gets the same labels.
   std::vector<std::uint64_t> local;
   long long contacts = 0;
-  for (auto [i, j] : pairs_) {
+  for (const auto [i, j] : contact_pairs_) {
     if (i >= set_.n_owned()) continue;  // counted by the owner of the lower-id sphere
     const auto a = set_.u64(u_plant)[i], b = set_.u64(u_plant)[j];
     if (a == b) continue;

@@ -131,7 +131,6 @@ class SeaweedBodies {
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs_;  // contacts (lower id, higher id)
   // (child, parent) local slots, in the order of the child's global id (the summation order).
   std::vector<std::pair<std::size_t, std::size_t>> joints_;
   std::vector<GlobalId> joint_parent_id_;  // per joint: the parent's id at the list build
