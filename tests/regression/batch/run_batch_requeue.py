@@ -58,7 +58,7 @@ with tempfile.TemporaryDirectory() as tmp:
         p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=900)
         logs = "".join(open(f).read() for f in glob.glob(os.path.join(run_dir, "*.out")))
         segs = len(glob.glob(os.path.join(run_dir, "segment_*.log")))
-        if p.returncode != 0:
+        if p.returncode != 0 or segs < 2:
             print(p.stdout[-3000:], p.stderr[-3000:], logs[-3000:])
         check(p.returncode == 0, f"{sched}: job chain exits 0 ({p.returncode})")
         check(segs >= 2 and "checkpoint (signal) written" in logs,

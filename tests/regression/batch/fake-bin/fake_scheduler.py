@@ -12,6 +12,7 @@ on one machine (tests/regression/batch). Jobs run synchronously, one after anoth
                    (PBS at the walltime), SIGKILL 10 s later. A qsub from inside a job is queued
                    and run when the job ends.
 """
+import glob
 import os
 import re
 import signal
@@ -58,6 +59,32 @@ def usr1_pending(pid):
     return any(int(fields.get(k, "0").strip(), 16) & bit for k in ("SigPnd", "ShdPnd"))
 
 
+def segment_logs(log):
+    """The Biota job's own segment logs (jobs/batch/job-lib.sh) beside the scheduler's log."""
+    return glob.glob(os.path.join(os.path.dirname(os.path.abspath(log)), "segment_*.log"))
+
+
+def progress_printed(log, offset, seg_offsets):
+    """True once the segment has printed a progress line. Read from Biota's segment log, which it
+    writes line by line, as well as from the scheduler's log: the scheduler's copy comes through
+    `tail -f`, which polls once a second where inotify is missing, and on a fast host the segment
+    finished in that second (CI: one segment, a failed check)."""
+    texts = []
+    with open(log) as f:
+        f.seek(offset)
+        texts.append(f.read())
+    for path in segment_logs(log):
+        try:
+            size = os.path.getsize(path)
+            with open(path) as f:
+                start = seg_offsets.get(path, 0)
+                f.seek(start if size >= start else 0)  # a log rewritten from the start
+                texts.append(f.read())
+        except OSError:
+            continue
+    return any(re.search(r"^step +\d+/", text, re.M) for text in texts)
+
+
 def run_job(script, env, log, warn_sig, kill_after):
     """Run one job segment; its "time limit" falls when the job has printed its first progress line
     (a clock in steps, so the limit lands mid-run on a loaded or an idle machine alike): warn_sig to
@@ -69,6 +96,7 @@ def run_job(script, env, log, warn_sig, kill_after):
     otherwise finishes the rest of its steps while the signal travels through bash and mpirun
     (one segment, a failed check). Frozen ranks take the signal at their next step."""
     offset = os.path.getsize(log) if os.path.exists(log) else 0
+    seg_offsets = {f: os.path.getsize(f) for f in segment_logs(log)}
     with open(log, "a") as out:
         p = subprocess.Popen(["bash", script], env=env, stdout=out, stderr=subprocess.STDOUT,
                              start_new_session=True)
@@ -76,25 +104,23 @@ def run_job(script, env, log, warn_sig, kill_after):
     while p.poll() is None:
         time.sleep(0.005)
         if warned_at is None:
-            with open(log) as f:
-                f.seek(offset)
-                if re.search(r"^step +\d+/", f.read(), re.M):
-                    ranks = job_ranks(p.pid)
-                    for pid in ranks:
-                        try:
-                            os.kill(pid, signal.SIGSTOP)
-                        except ProcessLookupError:
-                            pass
-                    os.kill(p.pid, warn_sig)
-                    warned_at = time.time()
-                    while not all(usr1_pending(pid) for pid in ranks) \
-                            and time.time() - warned_at < FREEZE_MAX:
-                        time.sleep(0.01)
-                    for pid in ranks:
-                        try:
-                            os.kill(pid, signal.SIGCONT)
-                        except ProcessLookupError:
-                            pass
+            if progress_printed(log, offset, seg_offsets):
+                ranks = job_ranks(p.pid)
+                for pid in ranks:
+                    try:
+                        os.kill(pid, signal.SIGSTOP)
+                    except ProcessLookupError:
+                        pass
+                os.kill(p.pid, warn_sig)
+                warned_at = time.time()
+                while not all(usr1_pending(pid) for pid in ranks) \
+                        and time.time() - warned_at < FREEZE_MAX:
+                    time.sleep(0.01)
+                for pid in ranks:
+                    try:
+                        os.kill(pid, signal.SIGCONT)
+                    except ProcessLookupError:
+                        pass
         elif time.time() - warned_at > kill_after:
             os.killpg(p.pid, signal.SIGKILL)
     return p.wait()
