@@ -119,10 +119,15 @@ void check_restart(MPI_Comm comm, const core::Config& cfg, const std::string& pa
   }
 }
 
+std::string checkpoint_dir(const core::Config& cfg) {
+  const std::string dir = cfg.get_string("checkpoint.dir");
+  return dir.empty() ? cfg.get_string("output.dir") + "/checkpoints" : dir;
+}
+
 std::string latest_checkpoint(MPI_Comm comm, const core::Config& cfg) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const std::string dir = cfg.get_string("checkpoint.dir"), scenario = cfg.get_string("scenario");
+  const std::string dir = checkpoint_dir(cfg), scenario = cfg.get_string("scenario");
   std::string best;
   if (rank == 0) {
     const std::regex name(scenario + "_([0-9]+)\\.h5");
@@ -147,8 +152,8 @@ std::string latest_checkpoint(MPI_Comm comm, const core::Config& cfg) {
   best.resize(len);
   MPI_Bcast(best.data(), len, MPI_CHAR, 0, comm);
   if (best.empty())
-    cfg.fail("checkpoint.dir",
-             "holds no complete checkpoint '" + scenario + "_<step>.h5' for --restart latest");
+    cfg.fail("checkpoint.dir", "(" + dir + ") holds no complete checkpoint '" + scenario +
+                                   "_<step>.h5' for --restart latest");
   return best;
 }
 

@@ -22,6 +22,11 @@ const std::vector<std::string>& restart_may_change();
 /// key not in restart_may_change(). Throws core::InputError with one line otherwise.
 void check_restart(MPI_Comm comm, const core::Config& cfg, const std::string& path);
 
+/// \brief The checkpoint directory: `checkpoint.dir`, or `<output.dir>/checkpoints` when it is
+/// empty (the default), so that `--set output.dir=...` moves a run's checkpoints with its output
+/// and two runs with different output directories never overwrite each other's checkpoints.
+std::string checkpoint_dir(const core::Config& cfg);
+
 /// \brief Newest (highest step) complete checkpoint `<dir>/<scenario>_<step>.h5` (collective;
 /// rank 0 looks, every rank gets the path). `.tmp` and incomplete files never count. Throws
 /// core::InputError naming checkpoint.dir if there is none.

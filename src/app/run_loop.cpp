@@ -130,7 +130,8 @@ void declare_common_config(core::ConfigSchema& s) {
   s.add_int("output.interval", 0, 0, 1'000'000'000'000,
             "steps between output steps (0: only the first and last step)");
   io::declare_output_layout_config(s);
-  s.add_string("checkpoint.dir", "out/checkpoints", {}, "directory for checkpoints");
+  s.add_string("checkpoint.dir", "", {},
+               "directory for checkpoints (empty: <output.dir>/checkpoints)");
   s.add_int("checkpoint.interval", 0, 0, 1'000'000'000'000,
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");
 }
@@ -143,7 +144,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   if (!cfg.has("run.steps") && !cfg.has("run.end_time"))
     cfg.fail("run.steps", "and run.end_time are both missing; give at least one");
   const std::string out_dir = cfg.get_string("output.dir");
-  const std::string ckpt_dir = cfg.get_string("checkpoint.dir");
+  const std::string ckpt_dir = checkpoint_dir(cfg);
   const std::string name = cfg.get_string("scenario");
 
   // Every phase below runs under the agreement: an error on one rank reaches all ranks there

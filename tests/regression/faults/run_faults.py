@@ -131,6 +131,19 @@ with tempfile.TemporaryDirectory() as tmp:
     e = errors(p)
     expect(p.returncode == 2 and len(e) == 1 and "checkpoint.dir" in e[0],
            f"--restart latest with no checkpoint: {e}")
+    # Without checkpoint.dir (the decks' default) checkpoints go to <output.dir>/checkpoints, so
+    # two runs with different output directories keep apart, and `latest` finds them there.
+    args = small("own")
+    own = [a for k, v in zip(args[::2], args[1::2]) if not v.startswith("checkpoint.dir=")
+           for a in (k, v)]
+    p = run(2, TANK, own)
+    expect(p.returncode == 0 and os.path.exists(f"{tmp}/own/out/checkpoints/tank_00000020.h5")
+           and not os.path.exists(f"{tmp}/own/ck"),
+           f"default checkpoint.dir is <output.dir>/checkpoints ({p.stderr[-200:]})")
+    p = run(3, TANK, own + ["--set", "run.steps=30", "--restart", "latest"])
+    expect(p.returncode == 0
+           and f"restarted from {tmp}/own/out/checkpoints/tank_00000020.h5" in p.stdout,
+           f"--restart latest looks in <output.dir>/checkpoints ({p.stderr[-300:]})")
 
     # --- 3. SIGTERM at a random step, restart continues bitwise.
     seed = int(os.environ.get("BIOTA_FAULT_SEED", random.SystemRandom().randrange(1 << 30)))
