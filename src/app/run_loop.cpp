@@ -230,9 +230,11 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
 
   const double wall0 = MPI_Wtime();
   const long long first_step = scenario->step_index();
-  if (root)
+  if (root) {
     fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
                first_step, last_step, dt, last_step * dt);
+    fmt::print("output in {}/, checkpoints in {}/\n", out_dir, ckpt_dir);
+  }
   std::string table, traffic;
   try {
     if (restart_path.empty() || out_every > 0) output();
