@@ -121,7 +121,9 @@ void check_restart(MPI_Comm comm, const core::Config& cfg, const std::string& pa
 
 std::string checkpoint_dir(const core::Config& cfg) {
   const std::string dir = cfg.get_string("checkpoint.dir");
-  return dir.empty() ? cfg.get_string("output.dir") + "/checkpoints" : dir;
+  return dir.empty()
+             ? (std::filesystem::path(cfg.get_string("output.dir")) / "checkpoints").string()
+             : dir;
 }
 
 std::string latest_checkpoint(MPI_Comm comm, const core::Config& cfg) {

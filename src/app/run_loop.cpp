@@ -52,7 +52,9 @@ void ensure_dir(MPI_Comm comm, const core::Config& cfg, const std::string& key,
   MPI_Bcast(&len, 1, MPI_INT, 0, comm);
   err.resize(len);
   MPI_Bcast(err.data(), len, MPI_CHAR, 0, comm);
-  if (len) cfg.fail(key, "cannot be used as a directory: " + err);
+  // A directory derived from another key (checkpoint.dir's default) is named too.
+  const std::string where = cfg.get_string(key) == dir ? "" : "(" + dir + ") ";
+  if (len) cfg.fail(key, where + "cannot be used as a directory: " + err);
 }
 
 // Bytes of the regular files under `dir` written at or after `since` (rank 0; output steps are
@@ -233,7 +235,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   if (root) {
     fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
                first_step, last_step, dt, last_step * dt);
-    fmt::print("output in {}/, checkpoints in {}/\n", out_dir, ckpt_dir);
+    fmt::print("output in {}, checkpoints in {}\n", out_dir, ckpt_dir);
   }
   std::string table, traffic;
   try {

@@ -144,6 +144,13 @@ with tempfile.TemporaryDirectory() as tmp:
     expect(p.returncode == 0
            and f"restarted from {tmp}/own/out/checkpoints/tank_00000020.h5" in p.stdout,
            f"--restart latest looks in <output.dir>/checkpoints ({p.stderr[-300:]})")
+    blocked = [a.replace(f"{tmp}/own/", f"{tmp}/blocked/") for a in own]
+    os.makedirs(f"{tmp}/blocked/out")
+    open(f"{tmp}/blocked/out/checkpoints", "w").write("a file, not a directory")
+    p = run(3, TANK, blocked)
+    e = errors(p)
+    expect(p.returncode == 2 and len(e) == 1 and f"({tmp}/blocked/out/checkpoints)" in e[0],
+           f"default checkpoint directory unusable: one line naming it ({e})")
 
     # --- 3. SIGTERM at a random step, restart continues bitwise.
     seed = int(os.environ.get("BIOTA_FAULT_SEED", random.SystemRandom().randrange(1 << 30)))
