@@ -26,7 +26,8 @@ class OrderedCellList {
   /// \brief Bin points [0, n) (coordinate arrays and global ids) into cubic bins of edge
   /// cutoff / reach aligned at `origin`: bin index floor((x - origin) / edge) per axis.
   /// for_each_near() then sees every partner within `cutoff`.
-  /// \throws std::runtime_error if the points span more than 2^26 bins (a stray particle).
+  /// \throws std::runtime_error if the points span more than 2^26 bins or a coordinate is not
+  /// finite (a stray particle).
   void build(const core::Real* x, const core::Real* y, const core::Real* z,
              const core::GlobalId* id, std::size_t n, const core::Vec3& origin, core::Real cutoff,
              int reach = 1) {
@@ -40,35 +41,33 @@ class OrderedCellList {
       nb_[0] = nb_[1] = nb_[2] = 1;
       return;
     }
-    // Bin coordinates once per point and axis (kept for the flat index below).
-    long long lo[3], hi[3];
+    // The bin range from the coordinate range: floor((v - o) * s) is monotonic in v (each step
+    // rounds monotonically), so the lowest bin is the bin of the lowest coordinate, bit for bit.
+    // One bounds pass, then one pass for the flat bin and its count: no per-axis bin arrays.
     const core::Real* c[3] = {x, y, z};
     for (int d = 0; d < 3; ++d) {
-      cb_[d].resize(n);
-      long long* cb = cb_[d].data();
       const core::Real* cd = c[d];
-      const core::Real o = origin_[d], s = inv_edge_;
-      long long l = static_cast<long long>(std::floor((cd[0] - o) * s)), h = l;
+      core::Real l = cd[0], h = cd[0], non_finite = 0;  // v - v is NaN for a NaN or an infinity
       for (std::size_t i = 0; i < n; ++i) {
-        const long long b = static_cast<long long>(std::floor((cd[i] - o) * s));
-        cb[i] = b;
-        l = b < l ? b : l;
-        h = b > h ? b : h;
+        l = cd[i] < l ? cd[i] : l;
+        h = cd[i] > h ? cd[i] : h;
+        non_finite += cd[i] - cd[i];
       }
-      lo[d] = l, hi[d] = h;
-      lo_[d] = lo[d];
-      nb_[d] = hi[d] - lo[d] + 1;
+      if (non_finite != 0)
+        throw std::runtime_error("OrderedCellList: a coordinate is not finite (stray particle?)");
+      lo_[d] = axis_bin(d, l);
+      nb_[d] = axis_bin(d, h) - lo_[d] + 1;
     }
     const long long total = nb_[0] * nb_[1] * nb_[2];
     if (total > (1LL << 26))
       throw std::runtime_error("OrderedCellList: points span too many bins (stray particle?)");
     head_.assign(static_cast<std::size_t>(total) + 1, 0);
-    {
-      const long long *bx = cb_[0].data(), *by = cb_[1].data(), *bz = cb_[2].data();
-      for (std::size_t i = 0; i < n; ++i)
-        bin_[i] = static_cast<std::size_t>(flat(bx[i] - lo_[0], by[i] - lo_[1], bz[i] - lo_[2]));
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t b = static_cast<std::size_t>(
+          flat(axis_bin(0, x[i]) - lo_[0], axis_bin(1, y[i]) - lo_[1], axis_bin(2, z[i]) - lo_[2]));
+      bin_[i] = b;
+      ++head_[b + 1];
     }
-    for (std::size_t i = 0; i < n; ++i) ++head_[bin_[i] + 1];
     for (std::size_t b = 1; b < head_.size(); ++b) head_[b] += head_[b - 1];
     order_.resize(n);
     fill_.assign(head_.begin(), head_.end() - 1);
@@ -170,7 +169,6 @@ class OrderedCellList {
   std::vector<std::size_t> head_, bin_, order_, fill_;
   std::vector<core::Real> sx_, sy_, sz_;
   std::vector<core::GlobalId> sid_;
-  std::vector<long long> cb_[3];  // per-axis bin of each point (build() scratch)
 };
 
 }  // namespace biota::particles

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "core/rng.hpp"
@@ -64,6 +66,26 @@ TEST(OrderedCellList, MatchesBruteForceAndOrderIsStorageIndependent) {
     pairs += brute.size();
   }
   EXPECT_GT(pairs, n);
+}
+
+TEST(OrderedCellList, RefusesNonFiniteAndFarStrayPoints) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(),
+               inf = std::numeric_limits<double>::infinity();
+  std::vector<double> x{0.1, 0.2, 0.3}, y{0.1, 0.2, 0.3}, z{0.1, 0.2, 0.3};
+  const std::vector<GlobalId> id{1, 2, 3};
+  OrderedCellList cl;
+  for (double bad : {nan, inf, -inf}) {
+    auto yb = y;
+    yb[1] = bad;
+    EXPECT_THROW(cl.build(x.data(), yb.data(), z.data(), id.data(), 3, {0, 0, 0}, 0.1),
+                 std::runtime_error);
+  }
+  auto zb = z;
+  zb[2] = 1e9;  // finite, but 1e10 bins away
+  EXPECT_THROW(cl.build(x.data(), y.data(), zb.data(), id.data(), 3, {0, 0, 0}, 0.1),
+               std::runtime_error);
+  cl.build(x.data(), y.data(), z.data(), id.data(), 3, {0, 0, 0}, 0.1);  // usable again
+  EXPECT_EQ(cl.size(), 3u);
 }
 
 #include "particles/particle_set.hpp"
