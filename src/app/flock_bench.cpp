@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "app/stream_probe.hpp"
 #include "core/config.hpp"
 #include "core/timers.hpp"
 #include "models/flock/sandpile.hpp"
@@ -23,6 +24,12 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   schema.add_int("seed", 12345, 0, 1'000'000'000'000'000'000, "seed");
   scenarios::FlockScenario::declare_config(schema);
   const double R = 3.0;
+  // The host's limit beside the figures: the boid step waits on memory, so its rate moves with
+  // the bandwidth each rank gets (measured alone, before the cases, on the same ranks).
+  const double bw = stream_triad(comm);
+  if (rank == 0)
+    fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s, {:.2f} GB/s per rank\n", bw,
+               bw / size);
   if (rank == 0)
     fmt::print(
         "flock benchmark: {} rank(s), uniform random boids in a periodic box, perception radius "
