@@ -306,7 +306,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
   // are discarded.
   JointBlock& jb = *joint_block_;
-  // Lanes are filled one column at a time, each from a slot index per lane; where a block's
+  // Lanes are filled one column at a time, each from a slot index per lane (gather_lane: one
+  // vector gather and store, so the law's vector loads find whole stores); where a block's
   // children are consecutive slots (joints are listed in child order; 99.5% of the blocks at
   // t = 4 s) a child column is one 64-byte copy from the first child's slot.
   const auto gather = [&](auto ci, auto pj) {
@@ -314,7 +315,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       if constexpr (std::is_integral_v<decltype(idx)>)  // lanes idx, idx + 1, ...
         std::memcpy(dst, src + idx, sizeof(JointBlock::Lane));
       else
-        for (int l = 0; l < kJointBlock; ++l) dst[l] = src[idx[l]];
+        gather_lane(dst, src, idx);
     };
     col(jb.qc.w, qw, ci), col(jb.qc.x, qx, ci), col(jb.qc.y, qy, ci), col(jb.qc.z, qz, ci);
     col(jb.qp.w, qw, pj), col(jb.qp.x, qx, pj), col(jb.qp.y, qy, pj), col(jb.qp.z, qz, pj);

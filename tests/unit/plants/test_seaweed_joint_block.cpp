@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_joint_block.hpp"
@@ -33,4 +34,15 @@ TEST(SeaweedJointBlock, BendTorqueIsTheRotationVectorAcrossTheSeriesBound) {
       EXPECT_NEAR(b.T.z[l], -rv.z, tol) << angle;
     }
   }
+}
+
+// gather_lane (vector gather on AVX-512 / AVX2, a loop otherwise) fills each lane from its slot,
+// with repeated, descending and far-apart slots as the joint list has them.
+TEST(SeaweedJointBlock, GatherLaneReadsEachLaneFromItsSlot) {
+  std::vector<double> src(5000);
+  for (std::size_t k = 0; k < src.size(); ++k) src[k] = 0.5 + static_cast<double>(k) * 1.25;
+  const std::size_t idx[kJointBlock] = {4999, 0, 17, 17, 3000, 2, 1, 4096};
+  double dst[kJointBlock] = {};
+  gather_lane(dst, src.data(), idx);
+  for (int l = 0; l < kJointBlock; ++l) EXPECT_EQ(dst[l], src[idx[l]]) << l;
 }
