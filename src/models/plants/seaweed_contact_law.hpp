@@ -14,10 +14,11 @@ namespace biota::models::plants {
 using core::Real;
 using core::Vec3;
 
-/// \brief What the contact law reads of a sphere, in one record (two cache lines).
-struct SphereHot {
+/// \brief What the contact law and a joint's parent read of a sphere, in one record of two whole
+/// cache lines: position, velocity, angular velocity, radius and orientation (w, x, y, z).
+struct alignas(64) SphereHot {
   Vec3 x, v, w;
-  Real r, pad[2];
+  Real r, q[4], pad[2];
 };
 
 /// \brief Contact law coefficients (MechanicsParams: contact_k, contact_c, friction, friction_c).

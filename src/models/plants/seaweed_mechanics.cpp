@@ -5,7 +5,6 @@
 #include <cstring>
 #include <numbers>
 #include <numeric>
-#include <tuple>
 #include <type_traits>
 
 #include "core/quat.hpp"
@@ -306,41 +305,58 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   // the scalar law: seaweed_joint_block.hpp). Padding lanes repeat the block's first joint and
   // are discarded.
   JointBlock& jb = *joint_block_;
-  // Lanes are filled one column at a time, each from a slot index per lane (gather_lane: one
-  // vector gather and store, so the law's vector loads find whole stores); where a block's
-  // children are consecutive slots (joints are listed in child order; 99.5% of the blocks at
-  // t = 4 s) a child column is one 64-byte copy from the first child's slot.
-  const auto gather = [&](auto ci, auto pj) {
-    const auto col = [](Real* dst, const Real* src, auto idx) {
-      if constexpr (std::is_integral_v<decltype(idx)>)  // lanes idx, idx + 1, ...
-        std::memcpy(dst, src + idx, sizeof(JointBlock::Lane));
+  // The joints' parents and the contacts' partners are read in no particular order: position,
+  // velocity, angular velocity, radius and orientation are copied into one record per sphere
+  // first (two cache lines per partner instead of fourteen columns).
+  const std::size_t nt = set_.n_total();
+  hot_.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i)
+    hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {qw[i], qx[i], qy[i], qz[i]}, {0, 0}};
+  const Hot* hot = hot_.data();
+  // Lanes are filled one input at a time by gather_lane (one vector gather and store, so the
+  // law's vector loads find whole stores). A parent's inputs come from its record: `hot_reals`
+  // is the offset of the record of slot pj[l], and the field's offset in it is added to the
+  // base. Where a block's children are consecutive slots (joints are listed in child order; 86%
+  // of the blocks at t = 8 s) a child input is one 64-byte copy from its column.
+  const auto gather = [&](auto ci, const std::size_t* hot_reals) {
+    const auto child = [&](Real* dst, const Real* src) {
+      if constexpr (std::is_integral_v<decltype(ci)>)  // lanes ci, ci + 1, ...
+        std::memcpy(dst, src + ci, sizeof(JointBlock::Lane));
       else
-        gather_lane(dst, src, idx);
+        gather_lane(dst, src, ci);
     };
-    col(jb.qc.w, qw, ci), col(jb.qc.x, qx, ci), col(jb.qc.y, qy, ci), col(jb.qc.z, qz, ci);
-    col(jb.qp.w, qw, pj), col(jb.qp.x, qx, pj), col(jb.qp.y, qy, pj), col(jb.qp.z, qz, pj);
-    col(jb.qr.w, rw, ci), col(jb.qr.x, rx, ci), col(jb.qr.y, ry, ci), col(jb.qr.z, rz, ci);
-    col(jb.ac.x, ac.c0, ci), col(jb.ac.y, ac.c1, ci), col(jb.ac.z, ac.c2, ci);
-    col(jb.ap.x, ap.c0, ci), col(jb.ap.y, ap.c1, ci), col(jb.ap.z, ap.c2, ci);
-    col(jb.xc.x, x.c0, ci), col(jb.xc.y, x.c1, ci), col(jb.xc.z, x.c2, ci);
-    col(jb.xp.x, x.c0, pj), col(jb.xp.y, x.c1, pj), col(jb.xp.z, x.c2, pj);
-    col(jb.vc.x, v.c0, ci), col(jb.vc.y, v.c1, ci), col(jb.vc.z, v.c2, ci);
-    col(jb.vp.x, v.c0, pj), col(jb.vp.y, v.c1, pj), col(jb.vp.z, v.c2, pj);
-    col(jb.wc.x, w.c0, ci), col(jb.wc.y, w.c1, ci), col(jb.wc.z, w.c2, ci);
-    col(jb.wp.x, w.c0, pj), col(jb.wp.y, w.c1, pj), col(jb.wp.z, w.c2, pj);
+    const auto parent = [&](Real* dst, const Real& field) {
+      gather_lane(dst, &field, hot_reals);  // field: a member of hot[0]
+    };
+    const Hot& h = hot[0];
+    child(jb.qc.w, qw), child(jb.qc.x, qx), child(jb.qc.y, qy), child(jb.qc.z, qz);
+    parent(jb.qp.w, h.q[0]), parent(jb.qp.x, h.q[1]), parent(jb.qp.y, h.q[2]);
+    parent(jb.qp.z, h.q[3]);
+    child(jb.qr.w, rw), child(jb.qr.x, rx), child(jb.qr.y, ry), child(jb.qr.z, rz);
+    child(jb.ac.x, ac.c0), child(jb.ac.y, ac.c1), child(jb.ac.z, ac.c2);
+    child(jb.ap.x, ap.c0), child(jb.ap.y, ap.c1), child(jb.ap.z, ap.c2);
+    child(jb.xc.x, x.c0), child(jb.xc.y, x.c1), child(jb.xc.z, x.c2);
+    parent(jb.xp.x, h.x.x), parent(jb.xp.y, h.x.y), parent(jb.xp.z, h.x.z);
+    child(jb.vc.x, v.c0), child(jb.vc.y, v.c1), child(jb.vc.z, v.c2);
+    parent(jb.vp.x, h.v.x), parent(jb.vp.y, h.v.y), parent(jb.vp.z, h.v.z);
+    child(jb.wc.x, w.c0), child(jb.wc.y, w.c1), child(jb.wc.z, w.c2);
+    parent(jb.wp.x, h.w.x), parent(jb.wp.y, h.w.y), parent(jb.wp.z, h.w.z);
   };
+  constexpr std::size_t kHotReals = sizeof(Hot) / sizeof(Real);
+  static_assert(sizeof(Hot) % sizeof(Real) == 0);
   for (std::size_t m0 = 0; m0 < nj; m0 += kJointBlock) {
     const int lanes = static_cast<int>(std::min<std::size_t>(kJointBlock, nj - m0));
-    std::size_t ci[kJointBlock], pj[kJointBlock];
+    std::size_t ci[kJointBlock], pj_reals[kJointBlock];
     bool runs = lanes == kJointBlock;
     for (int l = 0; l < kJointBlock; ++l) {
-      std::tie(ci[l], pj[l]) = joints_[m0 + (l < lanes ? l : 0)];
-      runs = runs && ci[l] == ci[0] + l;
+      const auto [c, p] = joints_[m0 + (l < lanes ? l : 0)];
+      ci[l] = c, pj_reals[l] = p * kHotReals;
+      runs = runs && c == ci[0] + l;
     }
     if (runs)
-      gather(ci[0], +pj);
+      gather(ci[0], pj_reals);
     else
-      gather(+ci, +pj);
+      gather(+ci, pj_reals);
     evaluate_joint_block(jb, p_.joint_k, p_.joint_c, p_.bend_k, p_.bend_c);
     for (int l = 0; l < lanes; ++l) {
       const std::size_t m = m0 + l;
@@ -358,13 +374,8 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       }
     }
   }
-  // Contacts: each pair once, both results added as they come (rebuild_lists). Their phase reads
-  // the partners in no particular order: position, velocity, angular velocity and radius are copied
-  // into one record per sphere first (two cache lines per partner instead of ten columns).
-  const std::size_t nt = set_.n_total();
-  hot_.resize(nt);
-  for (std::size_t i = 0; i < nt; ++i) hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {0, 0}};
-  const Hot* hot = hot_.data();
+  // Contacts: each pair once, both results added as they come (rebuild_lists), the partners read
+  // from their records (hot_).
   const ContactLaw law{p_.contact_k, p_.contact_c, p_.friction, p_.friction_c};
   // The inner list (see filter_due): on a filter sub-step the whole neighbour list is walked and
   // the contacts that can still touch are copied, in order; otherwise only those are walked.
