@@ -43,7 +43,7 @@ struct JointBlock {
 /// \brief One input lane of a block from scattered slots: dst[l] = src[idx[l]] for every lane.
 /// With AVX-512 or AVX2 a vector gather puts the lanes into a register and one vector store
 /// writes them: eight scalar stores read back as one vector by evaluate_joint_block stall the
-/// store-to-load forwarding (measured: the whole particle step 7% slower,
+/// store-to-load forwarding (measured: the whole particle step 5-8% slower,
 /// docs/performance-seaweed.md session 16). The same values either way, so the results do not
 /// change.
 inline void gather_lane(Real* dst, const Real* src, const std::size_t* idx) {
