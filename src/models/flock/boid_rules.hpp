@@ -78,52 +78,6 @@ inline void accumulate_neighbour(NeighbourSums& s, const Vec3& d, Real r2, const
   }
 }
 
-/// \brief Branch-light fusion of perceives() and accumulate_neighbour() for the hot loop, for
-/// AlignmentMode::kAverage (the nearest neighbour is not tracked). Every candidate (d, r2, vj) of
-/// the cell list is passed; `eligible` says whether it may be a neighbour at all (a flying prey).
-/// Rejected candidates add exact zeros, so the sums are bitwise those of the two-step path over
-/// the same candidate order (tested); the unpredictable accept/reject decision costs no branch.
-/// `v2` = |v|², `c2` = fov_cos² (precomputed).
-inline void accumulate_candidate(NeighbourSums& s, const Vec3& v, Real v2, const Vec3& d, Real r2,
-                                 const Vec3& vj, bool eligible, Real radius2, Real fov_cos, Real c2,
-                                 Real d_star) {
-  const Real vd = core::dot(v, d), lim = c2 * v2 * r2;
-  const bool cone = fov_cos >= 0 ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
-  const bool fov = (fov_cos <= -1) | (v2 == 0) | cone;
-  const bool in = eligible & (r2 < radius2) & (r2 > 0) & fov;
-  if (in & (r2 < d_star * d_star)) {  // rare (pairs closer than d*): a predictable branch
-    const Real r = std::sqrt(r2);
-    s.separation -= d * ((d_star - r) / r);
-  }
-  const Real m = in ? Real(1) : Real(0);
-  s.velocity += vj * m;
-  s.position += d * m;
-  s.count += in;
-}
-
-/// \brief perceives() for a contiguous block of candidates (SoA X, Y, Z, eligibility flags),
-/// written as a branch-free loop the compiler vectorises; mask[k] = 1 if candidate k is an
-/// eligible neighbour of the boid at x with velocity v (v2 = |v|², c2 = fov_cos²). Exactly the
-/// decisions of `eligible && perceives(...)` (tested). 64-bit flags keep the vector length at 8
-/// doubles (byte flags made GCC pick 64 lanes, longer than a block). No floating-point sums happen
-/// here, so the neighbour sums that follow keep their fixed order.
-inline void perceive_block(const Real* __restrict X, const Real* __restrict Y,
-                           const Real* __restrict Z, const std::uint64_t* __restrict eligible,
-                           std::size_t n, const Vec3& x, const Vec3& v, Real v2, Real radius2,
-                           Real fov_cos, Real c2, std::uint64_t* __restrict mask) {
-  const bool all_round = (fov_cos <= -1) | (v2 == 0);
-  const bool narrow = fov_cos >= 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Real dx = X[k] - x.x, dy = Y[k] - x.y, dz = Z[k] - x.z;
-    const Real r2 = dx * dx + dy * dy + dz * dz;
-    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
-    const bool ahead = vd >= 0, wide = vd * vd >= lim;  // cone test of perceives()
-    const bool cone = narrow ? (ahead & wide) : (ahead | (vd * vd <= lim));
-    mask[k] = static_cast<std::uint64_t>((eligible[k] != 0) & (r2 < radius2) & (r2 > 0) &
-                                         (all_round | cone));
-  }
-}
-
 #if defined(__AVX512F__)
 /// \brief The field-of-view test of perceives() on 8 lanes: v.d >= 0 and (v.d)^2 >= c2 v2 r2
 /// (narrow, fov_cos >= 0), else v.d >= 0 or (v.d)^2 <= c2 v2 r2; cv = c2 v2. Separate multiplies
@@ -166,96 +120,6 @@ inline constexpr auto kPack4 = [] {
   return t;
 }();
 #endif
-
-/// \brief The accepted candidates of a block, compacted: writes base + k for every candidate k
-/// with `eligible && perceives(...)` to `out` in increasing k and returns their number. `out` needs
-/// room for n + 8 entries, `scratch` for n (used by the portable path only).
-///
-/// With AVX-512 every candidate, the tail included, goes through the same masked 8-lane code (so
-/// the decision for a candidate never depends on its position in the block, which differs between
-/// decompositions) and is compacted in a register (vpcompressq to a register: fast on AMD and
-/// Intel, unlike the store form). Without AVX-512: perceive_block() and a scalar compaction.
-inline std::size_t perceive_compact(const Real* X, const Real* Y, const Real* Z,
-                                    const std::uint64_t* eligible, std::size_t base, std::size_t n,
-                                    const Vec3& x, const Vec3& v, Real v2, Real radius2,
-                                    Real fov_cos, Real c2, std::uint64_t* out,
-                                    std::uint64_t* scratch) {
-  std::size_t cnt = 0;
-#if defined(__AVX512F__)
-  (void)scratch;
-  const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
-  const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
-  const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
-  const __m512d cv = _mm512_set1_pd(c2 * v2);
-  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
-  const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
-  for (std::size_t k = 0; k < n; k += 8) {
-    const __mmask8 tm = n - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (n - k)) - 1);
-    const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
-    const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
-    const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
-    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
-                                     _mm512_mul_pd(dz, dz));
-    __mmask8 m = tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) &
-                 _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ) &
-                 _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
-                                             _mm512_set1_epi64(-1));
-    if (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
-    const __m512i idx =
-        _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(base + k)), lanes);
-    _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
-    cnt += static_cast<std::size_t>(__builtin_popcount(m));
-  }
-#elif defined(__AVX2__)
-  (void)scratch;
-  const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
-  const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
-  const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
-  const __m256d cv = _mm256_set1_pd(c2 * v2);
-  const bool all_round = (fov_cos <= -1) | (v2 == 0), narrow = fov_cos >= 0;
-  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
-  // Every candidate, the tail included, goes through the same 4-lane code with separate
-  // multiplies and adds (no FMA contraction), as in the AVX-512 path.
-  for (std::size_t k = 0; k < n; k += 4) {
-    const std::size_t left = n - k;
-    // Full vectors: plain loads (maskload is slow on AMD); the tail: masked loads, same values.
-    const bool full = left >= 4;
-    const __m256i tm =
-        full ? _mm256_set1_epi64x(-1)
-             : _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left)), lanes);
-    const __m256d dx =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(X + k) : _mm256_maskload_pd(X + k, tm), px);
-    const __m256d dy =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(Y + k) : _mm256_maskload_pd(Y + k, tm), py);
-    const __m256d dz =
-        _mm256_sub_pd(full ? _mm256_loadu_pd(Z + k) : _mm256_maskload_pd(Z + k, tm), pz);
-    const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                     _mm256_mul_pd(dz, dz));
-    const auto* ep = reinterpret_cast<const long long*>(eligible + k);
-    const __m256i el = full ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ep))
-                            : _mm256_maskload_epi64(ep, tm);
-    __m256d m =
-        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
-    m = _mm256_and_pd(m, _mm256_castsi256_pd(_mm256_andnot_si256(
-                             _mm256_cmpeq_epi64(el, _mm256_setzero_si256()), tm)));
-    if (!all_round) m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
-    const int bits = _mm256_movemask_pd(m);
-    const __m256i idx =
-        _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(base + k)), lanes);
-    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
-                        _mm256_permutevar8x32_epi32(idx, perm));
-    cnt += static_cast<std::size_t>(__builtin_popcount(bits));
-  }
-#else
-  perceive_block(X, Y, Z, eligible, n, x, v, v2, radius2, fov_cos, c2, scratch);
-  for (std::size_t k = 0; k < n; ++k) {
-    out[cnt] = base + k;
-    cnt += scratch[k];
-  }
-#endif
-  return cnt;
-}
 
 /// \brief perceive_compact_r2() with the field-of-view case fixed at compile time (no per-vector
 /// test of it in the loop): all round (fov_cos <= -1 or v2 == 0), or narrow (fov_cos >= 0).
@@ -345,8 +209,8 @@ inline std::size_t perceive_compact_r2_fixed(const Real* X, const Real* Y, const
 }
 }  // namespace detail
 
-/// \brief perceive_compact() for candidates that are all eligible (the caller filtered them), also
-/// returning the squared distances: writes k and r2_k = |X_k - x|² for every perceived candidate k
+/// \brief The perception test (perceives()) over candidates that are all eligible (the caller
+/// filtered them), compacted: writes k and r2_k = |X_k - x|² for every perceived candidate k
 /// to `out` and `out_r2` in increasing k and returns their number. Both need room for n + 8
 /// entries. r2 is computed as core::dot(d, d) computes it, so sums that reuse it keep their bits.
 /// Every candidate, the tail included, goes through the same vector code (AVX-512: 8 lanes, AVX2:
