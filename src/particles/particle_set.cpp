@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 #include <stdexcept>
 
 namespace biota::particles {
@@ -90,16 +91,25 @@ std::size_t ParticleSet::add_owned(GlobalId id, const Vec3& p) {
 }
 
 void ParticleSet::remove_owned(const std::vector<char>& remove) {
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < n_owned_; ++i) {
-    if (remove[i]) continue;
-    if (w != i) {
-      for (auto& c : rcol_) c[w] = c[i];
-      for (auto& c : ucol_) c[w] = c[i];
+  // Removals are few (the particles that left the rank this step): the runs of kept particles
+  // between them move down column by column, each a memmove (a row-by-row copy through every
+  // column cost 1.3% of a 2-rank flock profile, 2/3 of it its own loop).
+  std::vector<std::size_t> gone;
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    if (remove[i]) gone.push_back(i);
+  gone.push_back(n_owned_);  // sentinel: the last run ends at n_owned
+  const std::size_t kept = n_owned_ - (gone.size() - 1);
+  const auto compact = [&](auto* c) {
+    std::size_t w = gone[0];
+    for (std::size_t k = 0; k + 1 < gone.size(); ++k) {
+      const std::size_t run = gone[k + 1] - gone[k] - 1;
+      if (run > 0) std::memmove(c + w, c + gone[k] + 1, run * sizeof(*c));
+      w += run;
     }
-    ++w;
-  }
-  resize(w, w);
+  };
+  for (auto& c : rcol_) compact(c.data());
+  for (auto& c : ucol_) compact(c.data());
+  resize(kept, kept);
 }
 
 void ParticleSet::reorder_owned(const std::vector<std::size_t>& order) {
