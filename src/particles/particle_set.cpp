@@ -92,8 +92,8 @@ std::size_t ParticleSet::add_owned(GlobalId id, const Vec3& p) {
 
 void ParticleSet::remove_owned(const std::vector<char>& remove) {
   // Removals are few (the particles that left the rank this step): the runs of kept particles
-  // between them move down column by column, each a memmove (a row-by-row copy through every
-  // column cost 1.3% of a 2-rank flock profile, 2/3 of it its own loop).
+  // between them move down column by column, one memmove each (a row-by-row copy through every
+  // column took 1.6% of a 2-rank flock profile at 1e6 boids, the memmoves 0.7%).
   std::vector<std::size_t> gone;
   for (std::size_t i = 0; i < n_owned_; ++i)
     if (remove[i]) gone.push_back(i);
