@@ -96,7 +96,72 @@ double two_grid_mlups(MPI_Comm comm, const grid::Decomposition& decomp, int step
 struct Case {
   const char* lattice;
   const char* collision;
+  std::string name() const { return std::string(lattice) + "/" + collision; }
 };
+
+struct CaseResult {
+  double mlups = 0;      ///< single steps (LbmSolver::step)
+  double fused = 0;      ///< the same steps as fused pairs (LbmSolver::advance)
+  double halo_pct = 0;   ///< slowest rank's halo time, % of the single-step time
+  double bound_pct = 0;  ///< slowest rank's boundary time, % of the single-step time
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// One case in the tank configuration (walls, free-slip top, inlet jet, outlet annulus, Guo
+// forcing on), on equal blocks or on `starts` (--balance-speed).
+CaseResult time_case(MPI_Comm comm, const LbmBenchOptions& opts, const Case& c,
+                     const std::array<std::vector<int>, 3>& starts) {
+  solvers::lbm::LbmParams p;
+  p.lattice = c.lattice;
+  p.trt = std::string(c.collision) == "trt";
+  p.cells = {opts.size, opts.size, opts.size};
+  p.dx = 1.0 / opts.size;
+  p.dt = 1.0 / 600.0;
+  p.viscosity = 0.033 / 3.0 * p.dx * p.dx / p.dt;
+  using solvers::lbm::FaceType;
+  p.faces = {FaceType::kWall, FaceType::kWall, FaceType::kWall,
+             FaceType::kWall, FaceType::kWall, FaceType::kFreeSlip};
+  p.inlet.face = 4;
+  p.inlet.center[0] = p.inlet.center[1] = 0.5;
+  p.inlet.radius = 0.08;
+  p.inlet.speed = 0.3;
+  p.outlet.face = 4;
+  p.outlet.center[0] = p.outlet.center[1] = 0.5;
+  p.outlet.r_min = 0.35;
+  p.body_force = {0, 0, -1e-3};
+  p.overlap_halo = opts.overlap;
+  p.report_choices = false;
+  grid::Decomposition decomp(comm, p.cells, p.periodic(), {0, 0, 0}, {}, starts);
+  solvers::lbm::LbmSolver lbm(decomp, p);
+  lbm.enable_force_field();
+  // Nonzero in every cell, so every cell loads it (the sweep skips the loads where it is +0).
+  lbm.force().fill(1e-9);
+  // Warm-up, long enough for the solver's timed choice of overlapping the halo exchange.
+  for (int s = 0; s < 30; ++s) lbm.step(false);
+  const double h0 = lbm.time_halo(), b0 = lbm.time_boundary();
+  const double cells = double(opts.size) * opts.size * opts.size * opts.steps;
+  MPI_Barrier(comm);
+  const double t0 = MPI_Wtime();
+  for (int s = 0; s < opts.steps; ++s) lbm.step(false);
+  MPI_Barrier(comm);
+  const double t = MPI_Wtime() - t0;
+  double halo = lbm.time_halo() - h0, halo_max = 0;
+  MPI_Allreduce(&halo, &halo_max, 1, MPI_DOUBLE, MPI_MAX, comm);
+  double bound = lbm.time_boundary() - b0, bound_max = 0;
+  MPI_Allreduce(&bound, &bound_max, 1, MPI_DOUBLE, MPI_MAX, comm);
+  // The same steps as fused pairs (LbmSolver::advance, what the seaweed sub-cycle runs).
+  MPI_Barrier(comm);
+  const double tf0 = MPI_Wtime();
+  lbm.advance(opts.steps, solvers::lbm::LbmSolver::PairMode::kFused);
+  MPI_Barrier(comm);
+  const double tf = MPI_Wtime() - tf0;
+  return {cells / t / 1e6, cells / tf / 1e6, 100 * halo_max / t, 100 * bound_max / t};
+}
 
 }  // namespace
 
@@ -104,9 +169,7 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  std::vector<std::string> peer_lines;
   const std::string peer = opts.peer ? find_peer() : std::string();
-  const double peer_mflups = peer.empty() ? 0.0 : run_peer(comm, size, opts.size, peer_lines);
   const double bw = stream_triad(comm);
   // The cases' decomposition (walls on every face), printed because the split axis decides how
   // contiguous the halo is.
@@ -122,8 +185,11 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
     starts = grid::balanced_block_starts(layout.dims(), probe.cells, {}, speed);
   }
   if (rank == 0) {
-    fmt::print("biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case\n",
-               opts.size, size, layout.dims().x, layout.dims().y, layout.dims().z, opts.steps);
+    fmt::print(
+        "biota bench lbm: {}^3 cells, {} ranks ({} x {} x {}), {} timed steps per case, {} "
+        "round(s)\n",
+        opts.size, size, layout.dims().x, layout.dims().y, layout.dims().z, opts.steps,
+        opts.rounds);
     fmt::print("STREAM triad (all ranks at once): {:.2f} GB/s\n", bw);
     if (!opts.overlap) fmt::print("halo exchange not overlapped with the sweep (--no-overlap)\n");
     if (opts.balance_speed) {
@@ -144,96 +210,105 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
           "peer: run-lbm-peer.sh not found (looked at $BIOTA_LBM_PEER, ../shared/peers/ and {}/../"
           "shared/peers/); no peer figure\n",
           BIOTA_SOURCE_DIR);
-    else
-      for (const auto& l : peer_lines) fmt::print("peer ({}): {}\n", peer, l);
-    fmt::print("{:<6} {:<4} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
-               "lattice", "coll", "MLUPS", "roof(16Q)", "roof(24Q)", "%16Q", "%24Q", "halo%",
-               "bound%", "x peer", "fused", "x peer");
   }
+  std::vector<Case> cases;
   for (Case c :
-       {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"}, Case{"D3Q19", "trt"}}) {
-    const std::string name = std::string(c.lattice) + "/" + c.collision;
-    if (!opts.cases.empty() &&
-        std::find(opts.cases.begin(), opts.cases.end(), name) == opts.cases.end())
-      continue;
-    // The tank configuration: walls, free-slip top, inlet jet, outlet annulus, Guo forcing on.
-    solvers::lbm::LbmParams p;
-    p.lattice = c.lattice;
-    p.trt = std::string(c.collision) == "trt";
-    p.cells = {opts.size, opts.size, opts.size};
-    p.dx = 1.0 / opts.size;
-    p.dt = 1.0 / 600.0;
-    p.viscosity = 0.033 / 3.0 * p.dx * p.dx / p.dt;
-    using solvers::lbm::FaceType;
-    p.faces = {FaceType::kWall, FaceType::kWall, FaceType::kWall,
-               FaceType::kWall, FaceType::kWall, FaceType::kFreeSlip};
-    p.inlet.face = 4;
-    p.inlet.center[0] = p.inlet.center[1] = 0.5;
-    p.inlet.radius = 0.08;
-    p.inlet.speed = 0.3;
-    p.outlet.face = 4;
-    p.outlet.center[0] = p.outlet.center[1] = 0.5;
-    p.outlet.r_min = 0.35;
-    p.body_force = {0, 0, -1e-3};
-    p.overlap_halo = opts.overlap;
-    p.report_choices = false;
-    grid::Decomposition decomp(comm, p.cells, p.periodic(), {0, 0, 0}, {}, starts);
-    solvers::lbm::LbmSolver lbm(decomp, p);
-    lbm.enable_force_field();
-    // Nonzero in every cell, so every cell loads it (the sweep skips the loads where it is +0).
-    lbm.force().fill(1e-9);
-    // Warm-up, long enough for the solver's timed choice of overlapping the halo exchange.
-    for (int s = 0; s < 30; ++s) lbm.step(false);
-    const double h0 = lbm.time_halo(), b0 = lbm.time_boundary();
-    MPI_Barrier(comm);
-    const double t0 = MPI_Wtime();
-    for (int s = 0; s < opts.steps; ++s) lbm.step(false);
-    MPI_Barrier(comm);
-    const double t = MPI_Wtime() - t0;
-    double halo = lbm.time_halo() - h0, halo_max = 0;
-    MPI_Allreduce(&halo, &halo_max, 1, MPI_DOUBLE, MPI_MAX, comm);
-    double bound = lbm.time_boundary() - b0, bound_max = 0;
-    MPI_Allreduce(&bound, &bound_max, 1, MPI_DOUBLE, MPI_MAX, comm);
-    const double mlups = double(opts.size) * opts.size * opts.size * opts.steps / t / 1e6;
-    // The same steps as fused pairs (LbmSolver::advance, what the seaweed sub-cycle runs).
-    MPI_Barrier(comm);
-    const double tf0 = MPI_Wtime();
-    lbm.advance(opts.steps, solvers::lbm::LbmSolver::PairMode::kFused);
-    MPI_Barrier(comm);
-    const double fused_mlups =
-        double(opts.size) * opts.size * opts.size * opts.steps / (MPI_Wtime() - tf0) / 1e6;
-    const int q = lbm.q();
+       {Case{"D3Q15", "bgk"}, Case{"D3Q15", "trt"}, Case{"D3Q19", "bgk"}, Case{"D3Q19", "trt"}})
+    if (opts.cases.empty() ||
+        std::find(opts.cases.begin(), opts.cases.end(), c.name()) != opts.cases.end())
+      cases.push_back(c);
+  // The host's speed drifts over minutes on shared VMs, so the peer and every case run once per
+  // round, one after the other, and each ratio is taken within its round: a slow minute then
+  // hits both sides of a ratio alike instead of one of them.
+  std::vector<double> peer_mflups(opts.rounds, 0.0);
+  std::vector<std::vector<CaseResult>> results(cases.size(), std::vector<CaseResult>(opts.rounds));
+  for (int r = 0; r < opts.rounds; ++r) {
+    if (!peer.empty()) {
+      std::vector<std::string> peer_lines;
+      peer_mflups[r] = run_peer(comm, size, opts.size, peer_lines);
+      if (rank == 0)
+        for (const auto& l : peer_lines) fmt::print("round {} peer ({}): {}\n", r + 1, peer, l);
+    }
+    std::string line = fmt::format("round {} MLUPS (single / fused):", r + 1);
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+      results[c][r] = time_case(comm, opts, cases[c], starts);
+      line += fmt::format("  {} {:.1f} / {:.1f}", cases[c].name(), results[c][r].mlups,
+                          results[c][r].fused);
+    }
+    if (rank == 0) fmt::print("{}\n", line);
+    std::fflush(stdout);
+  }
+  if (rank == 0)
+    fmt::print("{:<6} {:<4} {:>9} {:>13} {:>9} {:>9} {:>7} {:>7} {:>7} {:>9} {:>7} {:>7}\n",
+               "lattice", "coll", "MLUPS", "min-max", "roof(16Q)", "roof(24Q)", "%16Q", "halo%",
+               "bound%", "x peer", "fused", "x peer");
+  // Per-round values of a case, and its per-round ratios to the peer (bare D3Q19 without
+  // boundaries, forcing or MPI: like lattices only).
+  const auto column = [&](std::size_t c, double CaseResult::*field) {
+    std::vector<double> v;
+    for (const auto& res : results[c]) v.push_back(res.*field);
+    return v;
+  };
+  const auto peer_ratio = [&](std::size_t c, double CaseResult::*field) -> std::string {
+    if (peer_mflups[0] <= 0 || std::string(cases[c].lattice) != "D3Q19") return "-";
+    std::vector<double> ratio;
+    for (int r = 0; r < opts.rounds; ++r)
+      if (peer_mflups[r] > 0) ratio.push_back(results[c][r].*field / peer_mflups[r]);
+    return fmt::format("{:.2f}", median(ratio));
+  };
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const auto mlups = column(c, &CaseResult::mlups);
+    const double med = median(mlups);
+    const int q = std::string(cases[c].lattice) == "D3Q15" ? 15 : 19;
     // 16Q: read Q + write Q doubles (the in-place bound); 24Q adds the write-allocate of the
     // second buffer that a two-grid scheme without non-temporal stores pays.
     const double roof16 = bw * 1e9 / (16.0 * q) / 1e6, roof24 = bw * 1e9 / (24.0 * q) / 1e6;
-    // The peer is bare D3Q19 (no boundaries, forcing or MPI): compare like lattices only.
-    auto ratio = [&](double m) {
-      return peer_mflups > 0 && std::string(c.lattice) == "D3Q19"
-                 ? fmt::format("{:.2f}", m / peer_mflups)
-                 : std::string("-");
-    };
     if (rank == 0)
       fmt::print(
-          "{:<6} {:<4} {:>9.1f} {:>11.1f} {:>11.1f} {:>8.0f}% {:>8.0f}% {:>8.1f}% {:>8.1f}% "
-          "{:>9} {:>9.1f} {:>9}\n",
-          c.lattice, c.collision, mlups, roof16, roof24, 100 * mlups / roof16, 100 * mlups / roof24,
-          100 * halo_max / t, 100 * bound_max / t, ratio(mlups), fused_mlups, ratio(fused_mlups));
+          "{:<6} {:<4} {:>9.1f} {:>6.1f}-{:<6.1f} {:>9.1f} {:>9.1f} {:>6.0f}% {:>6.1f}% {:>6.1f}% "
+          "{:>9} {:>7.1f} {:>7}\n",
+          cases[c].lattice, cases[c].collision, med, *std::min_element(mlups.begin(), mlups.end()),
+          *std::max_element(mlups.begin(), mlups.end()), roof16, roof24, 100 * med / roof16,
+          median(column(c, &CaseResult::halo_pct)), median(column(c, &CaseResult::bound_pct)),
+          peer_ratio(c, &CaseResult::mlups), median(column(c, &CaseResult::fused)),
+          peer_ratio(c, &CaseResult::fused));
+  }
+  // D3Q15 moves 15/19 of D3Q19's bytes per cell: the bandwidth-bound speed-up is 19/15.
+  for (const char* coll : {"bgk", "trt"}) {
+    std::size_t i15 = cases.size(), i19 = cases.size();
+    for (std::size_t c = 0; c < cases.size(); ++c)
+      if (std::string(cases[c].collision) == coll)
+        (std::string(cases[c].lattice) == "D3Q15" ? i15 : i19) = c;
+    if (i15 == cases.size() || i19 == cases.size()) continue;
+    std::vector<double> ratio;
+    for (int r = 0; r < opts.rounds; ++r)
+      ratio.push_back(results[i15][r].mlups / results[i19][r].mlups);
+    if (rank == 0)
+      fmt::print("D3Q15 / D3Q19 {}: {:.2f} (median of the rounds' ratios; 19/15 = 1.27)\n", coll,
+                 median(ratio));
   }
   if (opts.two_grid) {
     grid::Decomposition decomp(comm, {opts.size, opts.size, opts.size}, {false, false, false});
     const double mlups = two_grid_mlups(comm, decomp, opts.steps);
+    const double last_peer = peer_mflups[opts.rounds - 1];
     if (rank == 0)
       fmt::print(
           "D3Q19  bgk  {:>9.1f}  (former two-grid pull sweep, kernel only: no boundaries, "
-          "no halo) x peer {}\n",
-          mlups, peer_mflups > 0 ? fmt::format("{:.2f}", mlups / peer_mflups) : std::string("-"));
+          "no halo) x peer {} (last round's)\n",
+          mlups, last_peer > 0 ? fmt::format("{:.2f}", mlups / last_peer) : std::string("-"));
   }
   if (rank == 0) {
-    if (peer_mflups > 0)
+    fmt::print(
+        "MLUPS, halo%, bound%, fused: medians over the rounds; min-max: the rounds' spread\n");
+    if (peer_mflups[0] > 0)
       fmt::print(
-          "x peer: MLUPS / the peer's list-aa-pv-soa {:.1f} MFLUP/s with {} thread(s), same "
-          "run\n",
-          peer_mflups, size);
+          "x peer: median over the rounds of MLUPS / the peer's list-aa-pv-soa MFLUP/s with {} "
+          "thread(s) in the same round (rounds:",
+          size);
+    if (peer_mflups[0] > 0) {
+      for (double v : peer_mflups) fmt::print(" {:.1f}", v);
+      fmt::print(")\n");
+    }
     fmt::print(
         "fused: the same steps as pairs fused plane by plane (LbmSolver::advance; the seaweed "
         "sub-cycle)\n");

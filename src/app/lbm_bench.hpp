@@ -12,7 +12,8 @@ namespace biota::app {
 /// \brief Options of the LBM benchmark.
 struct LbmBenchOptions {
   int size = 100;                  ///< cells per axis
-  int steps = 200;                 ///< timed steps per case
+  int steps = 200;                 ///< timed steps per case and round
+  int rounds = 3;                  ///< rounds of the peer and every case, one after the other
   std::vector<std::string> cases;  ///< "D3Q19/bgk" etc.; empty = all four
   bool peer = true;                ///< run the RRZE peer (run-lbm-peer.sh) when it is found
   bool two_grid = true;            ///< also time the former two-grid pull sweep (kernel only)

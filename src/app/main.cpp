@@ -154,6 +154,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"lbm", "flock"}));
   bench->add_option("--size", bench_opts.size, "cells per axis");
   bench->add_option("--steps", bench_opts.steps, "timed steps per case");
+  bench
+      ->add_option("--rounds", bench_opts.rounds,
+                   "lbm: rounds of the peer and every case, one after the other (medians)")
+      ->check(CLI::Range(1, 100));
   bench->add_option("--case", bench_opts.cases,
                     "lbm: only these cases, e.g. D3Q19/bgk (repeatable)");
   bench->add_flag("!--no-peer", bench_opts.peer, "lbm: do not run the RRZE peer kernels");
