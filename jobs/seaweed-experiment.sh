@@ -19,7 +19,7 @@ for c in 1 3 5; do
   dir=out/seaweed_c$c
   probe=""
   if [[ ${SEAWEED_PROBE:-1} != 0 ]]; then
-    probe=$(mpirun -np "$ranks" ./build/biota bench lbm --case D3Q15/bgk --steps 60 --no-peer \
+    probe=$(mpirun -np "$ranks" ./build/biota bench lbm --case D3Q15/bgk --steps 60 --rounds 1 --no-peer \
       --no-two-grid 2>/dev/null | awk '/^STREAM/ {bw = $(NF-1)} /^D3Q15/ {m = $(NF-1)}
         END {if (m != "") printf "machine before it: STREAM %s GB/s, D3Q15 fused %s MLUPS", bw, m}')
   fi
