@@ -9,10 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-#include <immintrin.h>
-#endif
-
+#include "core/compact_near.hpp"
 #include "core/types.hpp"
 
 namespace biota::particles {
@@ -58,17 +55,18 @@ class CellList {
   /// The pairs of bin b are those with its own later points and with the points of the 13 bins
   /// after it in (z, y, x) order. Those bins form five runs of consecutive slots in bin order:
   /// the rest of b's own x-row (b and the bin after it), and the x-rows (three bins each) at
-  /// (y + 1, z), (y - 1..y + 1, z + 1). Each run is tested as one contiguous range without a
-  /// branch per candidate (the accepted slots compacted first, f called after), so the loop
-  /// runs in vector lanes where it can. Every pair is oriented, and its r2 computed, as the
-  /// bin-by-bin search computes it: i in the lower bin (or first in the same bin), r2 =
-  /// ((xi - xj)^2 + (yi - yj)^2) + (zi - zj)^2; only the order of the calls differs.
+  /// (y + 1, z), (y - 1..y + 1, z + 1). Each run is one contiguous range for
+  /// core::compact_near (the accepted slots compacted in vector lanes, f called after). Every
+  /// pair is oriented, and its r2 computed, as the bin-by-bin search computes it: i in the lower
+  /// bin (or first in the same bin), r2 = ((xi - xj)^2 + (yi - yj)^2) + (zi - zj)^2; only the
+  /// order of the calls differs.
   template <class F>
   void for_each_pair(F&& f) const {
     if (n_ == 0) return;
     const core::Real rc2 = cutoff_ * cutoff_;
-    std::vector<std::uint32_t> hit(n_ + kLanes);
-    std::vector<core::Real> hit_r2(n_ + kLanes);
+    // Room for every slot of the ranges one point is tested against, plus one vector's overrun.
+    std::vector<std::uint32_t> hit(n_ + 8);
+    std::vector<core::Real> hit_r2(n_ + 8);
     for (int bz = 0; bz < nb_[2]; ++bz)
       for (int by = 0; by < nb_[1]; ++by)
         for (int bx = 0; bx < nb_[0]; ++bx) {
@@ -88,59 +86,23 @@ class CellList {
           for (int dy = -1; dy <= 1; ++dy) add_row(by + dy, bz + 1);
           const std::size_t own_last = head_[index(x1, by, bz) + 1];
           for (std::size_t a = head_[b]; a < head_[b + 1]; ++a) {
-            const core::Real xi = sx_[a], yi = sy_[a], zi = sz_[a];
-            std::size_t n = near_in(xi, yi, zi, a + 1, own_last, rc2, hit.data(), hit_r2.data());
+            const core::Vec3 p{sx_[a], sy_[a], sz_[a]};
+            std::size_t n = near_in(p, a + 1, own_last, rc2, hit.data(), hit_r2.data());
             for (int r = 0; r < rows; ++r)
-              n += near_in(xi, yi, zi, row_first[r], row_last[r], rc2, hit.data() + n,
-                           hit_r2.data() + n);
+              n += near_in(p, row_first[r], row_last[r], rc2, hit.data() + n, hit_r2.data() + n);
             for (std::size_t h = 0; h < n; ++h) f(order_[a], order_[hit[h]], hit_r2[h]);
           }
         }
   }
 
  private:
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-  static constexpr std::size_t kLanes = 8;
-#else
-  static constexpr std::size_t kLanes = 1;
-#endif
-  /// The slots k in [first, last) with r2 = |(xi, yi, zi) - s_k|^2 < rc2, in increasing k, to
-  /// out (and their r2 to out_r2); returns their number. Both need room for last - first +
-  /// kLanes entries.
-  std::size_t near_in(core::Real xi, core::Real yi, core::Real zi, std::size_t first,
-                      std::size_t last, core::Real rc2, std::uint32_t* out,
-                      core::Real* out_r2) const {
-    std::size_t n = 0;
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-    const __m512d px = _mm512_set1_pd(xi), py = _mm512_set1_pd(yi), pz = _mm512_set1_pd(zi);
-    const __m512d rr = _mm512_set1_pd(rc2);
-    const __m256i eight = _mm256_set1_epi32(8);
-    __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(first)),
-                                   _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-    for (std::size_t k = first; k < last; k += 8) {
-      const __mmask8 tm = last - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (last - k)) - 1);
-      const __m512d dx = _mm512_sub_pd(px, _mm512_maskz_loadu_pd(tm, sx_.data() + k));
-      const __m512d dy = _mm512_sub_pd(py, _mm512_maskz_loadu_pd(tm, sy_.data() + k));
-      const __m512d dz = _mm512_sub_pd(pz, _mm512_maskz_loadu_pd(tm, sz_.data() + k));
-      const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
-                                       _mm512_mul_pd(dz, dz));
-      const __mmask8 m = tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ);
-      // Register compress, then a plain store (the compress-to-memory form is slow on AMD).
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + n), _mm256_maskz_compress_epi32(m, idx));
-      _mm512_storeu_pd(out_r2 + n, _mm512_maskz_compress_pd(m, r2));
-      n += static_cast<std::size_t>(__builtin_popcount(m));
-      idx = _mm256_add_epi32(idx, eight);
-    }
-#else
-    for (std::size_t k = first; k < last; ++k) {  // branch-free: write, then advance
-      const core::Real dx = xi - sx_[k], dy = yi - sy_[k], dz = zi - sz_[k];
-      const core::Real r2 = dx * dx + dy * dy + dz * dz;
-      out[n] = static_cast<std::uint32_t>(k);
-      out_r2[n] = r2;
-      n += r2 < rc2 ? 1 : 0;
-    }
-#endif
-    return n;
+  /// The slots k in [first, last) closer than sqrt(rc2) to p, in increasing k, to out (and
+  /// their r2 to out_r2); returns their number. The differences are s_k - p, whose squares are
+  /// those of p - s_k bit for bit.
+  std::size_t near_in(const core::Vec3& p, std::size_t first, std::size_t last, core::Real rc2,
+                      std::uint32_t* out, core::Real* out_r2) const {
+    return core::compact_near(sx_.data() + first, sy_.data() + first, sz_.data() + first,
+                              last - first, p, rc2, static_cast<std::uint32_t>(first), out, out_r2);
   }
   std::size_t index(int bx, int by, int bz) const {
     return (static_cast<std::size_t>(bz) * nb_[1] + by) * nb_[0] + bx;

@@ -87,7 +87,7 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
     if (tail) m = _mm256_and_pd(m, _mm256_castsi256_pd(tm));
     const int bits = _mm256_movemask_pd(m);
     const __m256i perm =
-        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(mf::kPack4[bits].data()));
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(core::kPack4[bits].data()));
     auto pack = [&](__m256d a) {
       return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(a), perm));
     };

@@ -20,6 +20,7 @@
 #include <limits>
 #include <span>
 
+#include "core/compact_near.hpp"
 #include "core/types.hpp"
 
 namespace biota::models::flock {
@@ -107,105 +108,46 @@ inline void accumulate_neighbour(NeighbourSums& s, const Vec3& d, Real r2, const
                 : _mm256_or_pd(ahead, _mm256_cmp_pd(vd2, lim, _CMP_LE_OQ));
 }
 
-/// \brief For each 4-bit lane mask, the 32-bit lane permutation (_mm256_permutevar8x32) that
-/// packs the selected 64-bit lanes of a 4-lane vector to the front, in order.
-inline constexpr auto kPack4 = [] {
-  std::array<std::array<int, 8>, 16> t{};
-  for (int m = 0; m < 16; ++m) {
-    int o = 0;
-    for (int l = 0; l < 4; ++l)
-      if (m & (1 << l)) t[m][o++] = 2 * l, t[m][o++] = 2 * l + 1;
-    for (; o < 8; ++o) t[m][o] = 0;
-  }
-  return t;
-}();
 #endif
 
 /// \brief perceive_compact_r2() with the field-of-view case fixed at compile time (no per-vector
 /// test of it in the loop): all round (fov_cos <= -1 or v2 == 0), or narrow (fov_cos >= 0).
 namespace detail {
+/// The lane test of perceives() beyond the radius: not the boid itself (r2 > 0), and in view.
+template <bool kAllRound, bool kNarrow>
+struct InView {
+  Vec3 v;
+  Real cv;  // c2 v2
+#if BIOTA_COMPACT_NEAR_LANES == 8
+  __mmask8 operator()(__m512d dx, __m512d dy, __m512d dz, __m512d r2) const {
+    const __mmask8 apart = _mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ);
+    if constexpr (kAllRound) return apart;
+    return apart & in_view8(_mm512_set1_pd(v.x), _mm512_set1_pd(v.y), _mm512_set1_pd(v.z), dx, dy,
+                            dz, _mm512_set1_pd(cv), r2, kNarrow);
+  }
+#elif BIOTA_COMPACT_NEAR_LANES == 4
+  __m256d operator()(__m256d dx, __m256d dy, __m256d dz, __m256d r2) const {
+    const __m256d apart = _mm256_cmp_pd(r2, _mm256_setzero_pd(), _CMP_GT_OQ);
+    if constexpr (kAllRound) return apart;
+    return _mm256_and_pd(
+        apart, in_view4(_mm256_set1_pd(v.x), _mm256_set1_pd(v.y), _mm256_set1_pd(v.z), dx, dy, dz,
+                        _mm256_set1_pd(cv), r2, kNarrow));
+  }
+#endif
+  bool operator()(Real dx, Real dy, Real dz, Real r2) const {
+    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = cv * r2;
+    const bool cone = kNarrow ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
+    return (r2 > 0) & (kAllRound | cone);
+  }
+};
+
 template <bool kAllRound, bool kNarrow>
 inline std::size_t perceive_compact_r2_fixed(const Real* X, const Real* Y, const Real* Z,
                                              std::size_t n, const Vec3& x, const Vec3& v, Real v2,
                                              Real radius2, Real c2, std::uint64_t* out,
                                              Real* out_r2) {
-  std::size_t cnt = 0;
-  [[maybe_unused]] constexpr bool all_round = kAllRound, narrow = kNarrow;
-#if defined(__AVX512F__)
-  const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);
-  const __m512d vx = _mm512_set1_pd(v.x), vy = _mm512_set1_pd(v.y), vz = _mm512_set1_pd(v.z);
-  const __m512d rr = _mm512_set1_pd(radius2), zero = _mm512_setzero_pd();
-  const __m512d cv = _mm512_set1_pd(c2 * v2);
-  const __m512i eight = _mm512_set1_epi64(8);
-  __m512i idx = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);  // k + lane, carried across iterations
-  // One group of 8 candidates at k (lanes outside tm not loaded and not kept).
-  auto group = [&](std::size_t k, __mmask8 tm) {
-    const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, X + k), px);
-    const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Y + k), py);
-    const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(tm, Z + k), pz);
-    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
-                                     _mm512_mul_pd(dz, dz));
-    __mmask8 m =
-        tm & _mm512_cmp_pd_mask(r2, rr, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
-    if constexpr (!all_round) m &= in_view8(vx, vy, vz, dx, dy, dz, cv, r2, narrow);
-    _mm512_storeu_si512(out + cnt, _mm512_maskz_compress_epi64(m, idx));
-    _mm512_storeu_pd(out_r2 + cnt, _mm512_maskz_compress_pd(m, r2));
-    cnt += static_cast<std::size_t>(__builtin_popcount(m));
-    idx = _mm512_add_epi64(idx, eight);
-  };
-  std::size_t k = 0;
-  for (; k + 8 <= n; k += 8) group(k, __mmask8(0xFF));
-  if (k < n) group(k, __mmask8((1u << (n - k)) - 1));
-#elif defined(__AVX2__)
-  const __m256d px = _mm256_set1_pd(x.x), py = _mm256_set1_pd(x.y), pz = _mm256_set1_pd(x.z);
-  const __m256d vx = _mm256_set1_pd(v.x), vy = _mm256_set1_pd(v.y), vz = _mm256_set1_pd(v.z);
-  const __m256d rr = _mm256_set1_pd(radius2), zero = _mm256_setzero_pd();
-  const __m256d cv = _mm256_set1_pd(c2 * v2);
-  const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0), four = _mm256_set1_epi64x(4);
-  __m256i idx = lanes;  // k + lane, carried across iterations
-  // One group of 4 candidates with offsets (dx, dy, dz); in the tail, `valid` (the lanes inside
-  // n) is and-ed into the decision.
-  auto group = [&](__m256d dx, __m256d dy, __m256d dz, bool tail, __m256d valid) {
-    const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                     _mm256_mul_pd(dz, dz));
-    __m256d m =
-        _mm256_and_pd(_mm256_cmp_pd(r2, rr, _CMP_LT_OQ), _mm256_cmp_pd(r2, zero, _CMP_GT_OQ));
-    if (tail) m = _mm256_and_pd(m, valid);
-    if constexpr (!all_round)
-      m = _mm256_and_pd(m, in_view4(vx, vy, vz, dx, dy, dz, cv, r2, narrow));
-    const int bits = _mm256_movemask_pd(m);
-    const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kPack4[bits].data()));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + cnt),
-                        _mm256_permutevar8x32_epi32(idx, perm));
-    _mm256_storeu_pd(out_r2 + cnt,
-                     _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(r2), perm)));
-    cnt += static_cast<std::size_t>(__builtin_popcount(bits));
-    idx = _mm256_add_epi64(idx, four);
-  };
-  std::size_t k = 0;
-  // Full vectors: plain loads and no lane mask (maskload is slow on AMD); the tail: masked loads
-  // of the same values through the same code.
-  for (; k + 4 <= n; k += 4)
-    group(_mm256_sub_pd(_mm256_loadu_pd(X + k), px), _mm256_sub_pd(_mm256_loadu_pd(Y + k), py),
-          _mm256_sub_pd(_mm256_loadu_pd(Z + k), pz), false, zero);
-  if (k < n) {
-    const __m256i tm = _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(n - k)), lanes);
-    group(_mm256_sub_pd(_mm256_maskload_pd(X + k, tm), px),
-          _mm256_sub_pd(_mm256_maskload_pd(Y + k, tm), py),
-          _mm256_sub_pd(_mm256_maskload_pd(Z + k, tm), pz), true, _mm256_castsi256_pd(tm));
-  }
-#else
-  for (std::size_t k = 0; k < n; ++k) {
-    const Real dx = X[k] - x.x, dy = Y[k] - x.y, dz = Z[k] - x.z;
-    const Real r2 = dx * dx + dy * dy + dz * dz;
-    const Real vd = v.x * dx + v.y * dy + v.z * dz, lim = c2 * v2 * r2;
-    const bool cone = narrow ? (vd >= 0) & (vd * vd >= lim) : (vd >= 0) | (vd * vd <= lim);
-    out[cnt] = k;
-    out_r2[cnt] = r2;
-    cnt += (r2 < radius2) & (r2 > 0) & (all_round | cone);
-  }
-#endif
-  return cnt;
+  return core::compact_near(X, Y, Z, n, x, radius2, std::uint64_t{0}, out, out_r2,
+                            InView<kAllRound, kNarrow>{v, c2 * v2});
 }
 }  // namespace detail
 
