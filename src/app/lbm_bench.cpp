@@ -300,14 +300,13 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   if (rank == 0) {
     fmt::print(
         "MLUPS, halo%, bound%, fused: medians over the rounds; min-max: the rounds' spread\n");
-    if (peer_mflups[0] > 0)
+    if (peer_mflups[0] > 0) {
+      std::string rounds;
+      for (double v : peer_mflups) rounds += fmt::format(" {:.1f}", v);
       fmt::print(
           "x peer: median over the rounds of MLUPS / the peer's list-aa-pv-soa MFLUP/s with {} "
-          "thread(s) in the same round (rounds:",
-          size);
-    if (peer_mflups[0] > 0) {
-      for (double v : peer_mflups) fmt::print(" {:.1f}", v);
-      fmt::print(")\n");
+          "thread(s) in the same round (rounds:{})\n",
+          size, rounds);
     }
     fmt::print(
         "fused: the same steps as pairs fused plane by plane (LbmSolver::advance; the seaweed "
