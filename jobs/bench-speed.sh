@@ -7,31 +7,25 @@ cd "$(dirname "$0")/.."
 source jobs/mpi-env.sh
 log=/tmp/final-bench.log
 stamp() { echo "=== $(date -u +%H:%M:%S) load: $(cut -d' ' -f1-3 /proc/loadavg) :: $*" | tee -a $log; }
-run() { stamp "$*"; "$@" 2>&1 | tee -a $log; }
 # The 1-minute load lags: after a 2-rank run it stays near 2 for a minute, and a benchmark started
-# then cannot be told from one that shared the cores (the log shows the load at each start). Wait,
-# at most 5 minutes, until it is below 1.0 before the runs whose figures are compared across
-# sessions.
+# then cannot be told from one that shared the cores (the log shows the load at each start). Every
+# benchmark waits, at most 5 minutes, until the load is below 1.0.
 wait_idle() {
   local waited=0
   while awk '{exit !($1 >= 1.0)}' /proc/loadavg && [ $waited -lt 300 ]; do
     sleep 10
     waited=$((waited + 10))
   done
-  stamp "waited ${waited} s for the 1-minute load to fall below 1.0"
+  [ $waited -eq 0 ] || echo "(waited ${waited} s for the 1-minute load to fall below 1.0)" | tee -a $log
 }
-wait_idle
+run() { wait_idle; stamp "$*"; "$@" 2>&1 | tee -a $log; }
 run mpirun -np 1 ./build/biota bench lbm
 run mpirun -np 2 ./build/biota bench lbm
 run ./build/biota bench flock --boids 100000 --steps 10
 run ./build/biota bench flock --boids 1000000 --steps 5
 run mpirun -np 2 ./build/biota bench flock --boids 1000000 --steps 5
 run mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare
-if [ -x build-v3/biota ]; then
-  wait_idle
-  run build-v3/biota bench flock --boids 100000 --steps 10
-fi
-wait_idle
+if [ -x build-v3/biota ]; then run build-v3/biota bench flock --boids 100000 --steps 10; fi
 run jobs/seaweed-experiment.sh
 for c in 1 3 5; do stamp "timers c$c"; tail -30 out/seaweed_c$c.log | tee -a $log; done
 stamp done
