@@ -4,6 +4,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -48,16 +49,19 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         "scenario = \"flock\"\nseed = 1\n[flock]\nstats_interval = 1000000\n"
         "[flock.domain]\nsize = [{0}, {0}, {0}]\ndx = {1}\nboundary = \"periodic\"\nbin_reach = "
         "{3}\n"
+        "[flock.balance]\ninterval = {4}\n"
         "[flock.boids]\nperception_radius = {1}\n[flock.prey]\ncount = {2}\n"
         "[flock.predator]\ncount = 0\n[flock.sandpile]\nsize = 4\n"
         "[flock.noise]\nheading = 0.0\ncruising_distance = 0.0\nmax_speed = 0.0\n"
         "[flock.takeoff]\nifs = \"uniform\"\n",
-        side, R, n, opts.reach);
+        side, R, n, opts.reach, opts.balance_interval);
     const auto cfg = core::Config::from_string(schema, deck, "bench");
     core::Timers timers;
     scenarios::RunContext ctx{comm, cfg, timers, "bench_flock_out"};
     scenarios::FlockScenario sc(ctx);
-    for (int k = 0; k < 3; ++k) sc.step();  // warm-up
+    const long long balance_every = cfg.get_int("flock.balance.interval");
+    constexpr int warmup = 3;
+    for (int k = 0; k < warmup; ++k) sc.step();
     timers = core::Timers{};
     sc.reset_neighbour_count();
     auto cpu_now = [] {
@@ -82,6 +86,16 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
           "{:>9} {:>8.0f} {:>10.1f} {:>12.2f} {:>14.3e} {:>14.3e} {:>8.1f} {:>8.1f} {:>8.1f}\n", n,
           side, perceived, 1e3 * t / opts.steps, rate, rate_cpu, 100 * sec[0] / t, 100 * sec[1] / t,
           100 * (1 - (sec[0] + sec[1]) / t));
+    if (size > 1 && balance_every > 0 && balance_every <= warmup + opts.steps) {
+      long long owned[2] = {static_cast<long long>(sc.owned_boids()), 0};
+      owned[1] = -owned[0];
+      MPI_Allreduce(MPI_IN_PLACE, owned, 2, MPI_LONG_LONG, MPI_MAX, comm);
+      if (rank == 0)
+        fmt::print(
+            "{:>9} load balance (flock.balance.interval = {}): the cut moved {} time(s) in "
+            "{} warm-up and {} timed steps; boids per rank now {} to {}\n",
+            "", balance_every, sc.balance_moves(), warmup, opts.steps, -owned[1], owned[0]);
+    }
   }
   // Sandpile: topplings/s in the critical state (replicated, so every rank does the same work).
   for (int L : {16, 32}) {

@@ -13,6 +13,9 @@ struct FlockBenchOptions {
   std::vector<long long> boids = {10000, 100000, 1000000};  ///< prey counts
   int steps = 20;                                           ///< timed steps per case
   int reach = 1;                                            ///< flock.domain.bin_reach
+  /// flock.balance.interval (0: the even cut throughout). The deck default: with 3 warm-up and
+  /// up to 13 timed steps the benchmark then keeps the even cut (uniform boids, equal work).
+  int balance_interval = 16;
   double neighbours = 20;  ///< target mean number of boids within the perception radius
 };
 

@@ -171,6 +171,11 @@ int main(int argc, char** argv) {
   app::FlockBenchOptions flock_opts;
   bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
   bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
+  bench
+      ->add_option("--balance-interval", flock_opts.balance_interval,
+                   "flock: steps between load-balance checks (flock.balance.interval; 0: the "
+                   "even cut)")
+      ->check(CLI::Range(0, 1000000));
   app::LSystemCommandOptions lsys;
   auto* lsystem = cli.add_subcommand(
       "lsystem", "derive an L-system file and print its modules and turtle geometry");

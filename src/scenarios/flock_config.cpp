@@ -20,6 +20,13 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
   s.add_int("flock.domain.bin_reach", 1, 1, 4,
             "neighbour bins have edge perception_radius / reach (more, smaller bins: fewer "
             "candidates, more rows)");
+  s.add_int("flock.balance.interval", 16, 0, 1'000'000'000,
+            "steps between load-balance checks: the cut between ranks moves so that each rank "
+            "gets boids in proportion to its measured speed (0: the even cut throughout; no "
+            "effect on the results)");
+  s.add_real("flock.balance.tolerance", 0.05, 0.0, 10.0, "-",
+             "the cut moves when the slowest rank's rules time exceeds the mean by more than "
+             "this fraction");
   s.add_real("flock.dt", 0.05, 0.0, std::nullopt, "s", "time step (one animation frame)", true);
   s.add_int("flock.stats_interval", 5, 1, 1'000'000'000, "steps between rows of flock_order.csv");
   // Boids (spec 2.1).

@@ -54,13 +54,18 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
       if (size[d] < 3 * radius_)
         c.fail("flock.domain.size",
                "must be >= 3 perception radii on a periodic box (no double images)");
+  grid_cells_ = cells;
+  grid_dx_ = dx;
+  grid_keys_ = grid::GridKeys{
+      c.source(),
+      {"flock.domain.size[0] / flock.domain.dx", "flock.domain.size[1] / flock.domain.dx",
+       "flock.domain.size[2] / flock.domain.dx"}};
   decomp_ = std::make_unique<grid::Decomposition>(
       ctx.comm, cells, std::array<bool, 3>{periodic_, periodic_, periodic_}, core::Index3{0, 0, 0},
-      grid::GridKeys{
-          c.source(),
-          {"flock.domain.size[0] / flock.domain.dx", "flock.domain.size[1] / flock.domain.dx",
-           "flock.domain.size[2] / flock.domain.dx"}});
+      grid_keys_);
   pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
+  balance_interval_ = static_cast<int>(c.get_int("flock.balance.interval"));
+  balance_tolerance_ = c.get_real("flock.balance.tolerance");
   lo_ = pcomm_->domain_lo();
   hi_ = pcomm_->domain_hi();
   wall_margin_ = c.get_real("flock.domain.wall_margin");
@@ -272,34 +277,6 @@ Vec3 FlockScenario::min_image(Vec3 d) const {
   return d;
 }
 
-void FlockScenario::begin_step() {
-  pcomm_->migrate(*set_);
-  if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
-    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
-                 set_->real(particles::ParticleSet::kPos, 1),
-                 set_->real(particles::ParticleSet::kPos, 2),
-                 set_->u64(particles::ParticleSet::kId), set_->n_owned(), lo_, radius_, bin_reach_);
-    std::vector<std::size_t> order(set_->n_owned());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = cells_.index(k);
-    set_->reorder_owned(order);
-  }
-  pcomm_->build_ghosts(*set_, radius_);
-  const std::size_t n = set_->n_total();
-  cells_.build(set_->real(particles::ParticleSet::kPos, 0),
-               set_->real(particles::ParticleSet::kPos, 1),
-               set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
-               n, lo_, radius_, bin_reach_);
-  svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
-  const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
-               *vz = set_->real(a_vel_, 2);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = cells_.index(k);
-    svx_[k] = vx[i], svy_[k] = vy[i], svz_[k] = vz[i];
-    const core::GlobalId id = cells_.ids()[k];
-    eligible_[k] = is_prey(id) && flying(id);
-  }
-}
-
 std::vector<FlockScenario::Predator> FlockScenario::gather_predators() const {
   return gather_records(/*predators_only=*/true);
 }
@@ -411,6 +388,7 @@ void FlockScenario::step() {
   {
     auto scope = ctx_.timers.scope("rules");
     const std::size_t no = set_->n_owned();
+    boid_cost_.assign(no, 1.0f);
     // Reused across steps: every flying boid that is not launched gets acc[i] below before it
     // is read, so only the launch flags need clearing.
     acc_.resize(no);
@@ -460,10 +438,12 @@ void FlockScenario::step() {
                           eligible_.data(), R2);
               gathered_end = bin_last;
             }
+            boid_cost_[i] += static_cast<float>(bin_.size());
             return bin_.sums(x, v, R2, fov_cos_, dstar);
           }
           mf::NeighbourSums near_sums;
           cells_.for_each_near(x, [&](std::size_t j) {
+            ++boid_cost_[i];
             const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
             const double r2 = core::dot(d, d);
             if (r2 >= R2 || !eligible_[j]) return;
@@ -473,6 +453,7 @@ void FlockScenario::step() {
           return near_sums;
         }();
         neighbour_sum_ += s.count;
+        boid_cost_[i] += static_cast<float>(s.count);
         ++prey_updates_;
         // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
         Vec3 flee{};
@@ -496,6 +477,7 @@ void FlockScenario::step() {
         acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), turn);
       }
     }
+    for (const float c : boid_cost_) work_since_balance_ += c;
     // Column pointers hoisted: the stores below would otherwise make the compiler reload them
     // through set_ for every boid.
     const core::GlobalId* own_ids = set_->u64(particles::ParticleSet::kId);

@@ -42,7 +42,10 @@ class FlockScenario : public Scenario {
 
   void step() override;
   long long step_index() const override { return step_; }
-  core::CommCounter comm_sent() const override { return pcomm_->sent(); }
+  core::CommCounter comm_sent() const override {
+    core::CommCounter c = sent_before_balance_;
+    return c += pcomm_->sent();
+  }
   double time() const override { return step_ * dt_; }
   double dt() const override { return dt_; }
   void write_output() override;
@@ -65,6 +68,12 @@ class FlockScenario : public Scenario {
   }
   /// \brief Restart the neighbour statistics.
   void reset_neighbour_count() { neighbour_sum_ = prey_updates_ = 0; }
+  /// \brief Boids this rank owns now.
+  std::size_t owned_boids() const { return set_->n_owned(); }
+  /// \brief Number of times the load balance moved the cut between ranks.
+  long long balance_moves() const { return balance_moves_; }
+  /// \brief This rank's first cell along each axis (the current cut; tests, diagnostics).
+  core::Index3 local_first_cell() const { return decomp_->local_box().lo; }
   /// \brief Polarisation of the flying prey at the last statistics row.
   double last_polarisation() const { return last_phi_; }
 
@@ -79,6 +88,8 @@ class FlockScenario : public Scenario {
 
   void place_boids();
   void begin_step();  // migrate + ghosts + cell list
+  /// Move the cut between ranks by measured speed (flock_decomposition.cpp); before a migration.
+  void rebalance();
   std::vector<Predator> gather_predators() const;
   /// \brief (id, x, v) of every owned boid on every rank that passes `keep`, sorted by id.
   std::vector<BoidRecord> gather_records(bool predators_only) const;
@@ -103,6 +114,18 @@ class FlockScenario : public Scenario {
   // Domain and boids.
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
+  // Load balance: the grid the cut is made on, and the work since the last check.
+  core::Index3 grid_cells_{};
+  grid::GridKeys grid_keys_;
+  double grid_dx_ = 0;
+  int balance_interval_ = 0;
+  double balance_tolerance_ = 0;
+  double rules_seconds_at_balance_ = 0;
+  double work_since_balance_ = 0;  ///< sum of boid_cost_ over the rules phases since
+  /// Per owned slot, the last rules phase's work estimate: 1 + candidates tested + neighbours.
+  std::vector<float> boid_cost_;
+  long long balance_moves_ = 0;
+  core::CommCounter sent_before_balance_;  ///< sent by the ParticleComms of earlier cuts
   std::unique_ptr<particles::ParticleSet> set_;
   int a_vel_ = 0, a_dstar_ = 0, a_vmax_ = 0;
   bool periodic_ = false;

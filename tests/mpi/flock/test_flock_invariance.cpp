@@ -139,6 +139,47 @@ TEST_P(FlockInvariance, SameBoidsOnAnyRankCountAndAcrossRestart) {
 
 INSTANTIATE_TEST_SUITE_P(Boundaries, FlockInvariance, ::testing::Values("walls", "periodic"));
 
+// The load balance moves the cut between ranks by their measured speed (timings, so a different
+// cut in every run): the boids stay bitwise those of one rank with the even cut. Tolerance 0 and
+// a check every 4 steps: the take-off clusters the boids, so the cut moves on 2 and 3 ranks.
+TEST(FlockLoadBalance, MovesTheCutAndChangesNoBit) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto sch = schema();
+  const std::string dir = "flock_balance_np" + std::to_string(size);
+  const auto off =
+      core::Config::from_string(sch, kDeck, "flock_balance.toml", {"flock.balance.interval=0"});
+  const auto on =
+      core::Config::from_string(sch, kDeck, "flock_balance.toml",
+                                {"flock.balance.interval=4", "flock.balance.tolerance=0.0"});
+  constexpr int kSteps = 80;
+  MPI_Comm solo;
+  MPI_Comm_split(MPI_COMM_WORLD, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
+  std::vector<scenarios::BoidRecord> ref;
+  if (rank == 0) ref = run(solo, off, kSteps, dir + "/serial", "", "", nullptr);
+  std::size_t n = ref.size();
+  MPI_Bcast(&n, sizeof n, MPI_BYTE, 0, MPI_COMM_WORLD);
+  ref.resize(n);
+  MPI_Bcast(ref.data(), static_cast<int>(n * sizeof(scenarios::BoidRecord)), MPI_BYTE, 0,
+            MPI_COMM_WORLD);
+  core::Timers timers;
+  scenarios::RunContext ctx{MPI_COMM_WORLD, on, timers, dir + "/balanced"};
+  scenarios::FlockScenario sc(ctx);
+  const core::Index3 even = sc.local_first_cell();
+  for (int k = 0; k < kSteps; ++k) sc.step();
+  expect_same(ref, sc.gather_boids());
+  if (size > 1) {
+    EXPECT_GT(sc.balance_moves(), 0);
+    int moved = !(sc.local_first_cell() == even);
+    MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    EXPECT_EQ(moved, 1) << "no rank's block starts elsewhere than in the even cut";
+  } else {
+    EXPECT_EQ(sc.balance_moves(), 0);
+  }
+  if (solo != MPI_COMM_NULL) MPI_Comm_free(&solo);
+}
+
 namespace {
 std::string file_text(const std::string& path) {
   std::ifstream in(path);

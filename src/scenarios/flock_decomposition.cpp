@@ -1,0 +1,68 @@
+// FlockScenario's decomposition: the start of a step (migration, ghosts, cell lists) and the
+// dynamic load balance that moves the cut between ranks (deck keys flock.balance.*, docs/flock.md).
+#include <cmath>
+
+#include "particles/load_balance.hpp"
+#include "scenarios/flock_scenario.hpp"
+
+namespace biota::scenarios {
+
+void FlockScenario::begin_step() {
+  if (balance_interval_ > 0 && step_ % balance_interval_ == 0) rebalance();
+  pcomm_->migrate(*set_);
+  if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
+    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+                 set_->real(particles::ParticleSet::kPos, 1),
+                 set_->real(particles::ParticleSet::kPos, 2),
+                 set_->u64(particles::ParticleSet::kId), set_->n_owned(), lo_, radius_, bin_reach_);
+    std::vector<std::size_t> order(set_->n_owned());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = cells_.index(k);
+    set_->reorder_owned(order);
+  }
+  pcomm_->build_ghosts(*set_, radius_);
+  const std::size_t n = set_->n_total();
+  cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+               set_->real(particles::ParticleSet::kPos, 1),
+               set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
+               n, lo_, radius_, bin_reach_);
+  svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
+  const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
+               *vz = set_->real(a_vel_, 2);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = cells_.index(k);
+    svx_[k] = vx[i], svy_[k] = vy[i], svz_[k] = vz[i];
+    const core::GlobalId id = cells_.ids()[k];
+    eligible_[k] = is_prey(id) && flying(id);
+  }
+}
+
+void FlockScenario::rebalance() {
+  // The rules phase is the per-boid work; its wall time on a rank includes whatever slows that
+  // rank's core, which is what the cut has to follow.
+  const double rules = ctx_.timers.total("rules");
+  double seconds = rules - rules_seconds_at_balance_;
+  const double updates = work_since_balance_;
+  rules_seconds_at_balance_ = rules;
+  work_since_balance_ = 0;
+  if (!(seconds > 0)) seconds = 0;  // the timers were reset (benchmarks): measure afresh
+  const double* x[3] = {set_->real(particles::ParticleSet::kPos, 0),
+                        set_->real(particles::ParticleSet::kPos, 1),
+                        set_->real(particles::ParticleSet::kPos, 2)};
+  // Blocks at least the ghost cutoff (the perception radius) thick.
+  const int min_cells = std::max(1, static_cast<int>(std::ceil(radius_ / grid_dx_ - 1e-12)));
+  // boid_cost_: the last rules phase's work per owned slot (no migration since).
+  const auto decision = particles::rebalance_starts(
+      *decomp_, x, boid_cost_.size() == set_->n_owned() ? boid_cost_.data() : nullptr,
+      set_->n_owned(), grid_dx_, lo_, seconds, updates, balance_tolerance_, min_cells);
+  if (!decision.moves()) return;
+  sent_before_balance_ += pcomm_->sent();
+  // The old ParticleComm refers to the old decomposition: replace both, then migrate.
+  pcomm_.reset();
+  decomp_ = std::make_unique<grid::Decomposition>(
+      ctx_.comm, grid_cells_, std::array<bool, 3>{periodic_, periodic_, periodic_}, decomp_->dims(),
+      grid_keys_, decision.starts);
+  pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, grid_dx_);
+  ++balance_moves_;
+}
+
+}  // namespace biota::scenarios
