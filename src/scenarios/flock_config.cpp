@@ -9,8 +9,12 @@ void FlockScenario::declare_config(core::ConfigSchema& s) {
   // Domain.
   s.add_real_list("flock.domain.size", std::vector<double>{60, 60, 40}, 3, "m",
                   "box [0, size]; each size must be a multiple of flock.domain.dx");
-  s.add_real("flock.domain.dx", 4.0, 0.0, std::nullopt, "m",
-             "cell of the rank decomposition (ranks own whole cells; >= perception radius)", true);
+  s.add_real(
+      "flock.domain.dx", 4.0, 0.0, std::nullopt, "m",
+      "cell of the rank decomposition: ranks own whole cells, the load balance moves the cut "
+      "by whole cells (smaller: finer cuts), every block at least one perception radius "
+      "thick",
+      true);
   s.add_string("flock.domain.boundary", "walls", {"walls", "periodic"},
                "soft walls (boids pushed back inside a margin) or a periodic box");
   s.add_real("flock.domain.wall_margin", 5.0, 0.0, std::nullopt, "m",
