@@ -38,7 +38,12 @@ BalanceDecision rebalance_starts(const grid::Decomposition& d, const double* con
     }
     MPI_Allreduce(MPI_IN_PLACE, planes[a].data(), cells[a], MPI_DOUBLE, MPI_SUM, d.comm());
   }
-  auto starts = grid::balanced_block_starts(dims, cells, planes, speed, min_cells);
+  // weighted_block_starts directly, not balanced_block_starts: its floor of half an even block
+  // suits grid work; particles may gather in a few planes, so only the ghost cutoff bounds a block.
+  const auto capacity = grid::block_capacities(dims, speed);
+  std::array<std::vector<int>, 3> starts;
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] > 1) starts[a] = grid::weighted_block_starts(planes[a], capacity[a], min_cells);
   bool same = true;
   for (int a = 0; a < 3; ++a)
     for (std::size_t b = 0; b < starts[a].size(); ++b)
