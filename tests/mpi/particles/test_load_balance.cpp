@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -73,6 +74,45 @@ TEST(LoadBalance, BlocksFollowTheMeasuredSpeed) {
   } else {
     ADD_FAILURE() << "unequal work per block did not move the cut";
   }
+}
+
+// One plane 20 times heavier than the others: cutting where the running weight first reaches a
+// share puts it in the block before the cut; the refinement finds the cut of the least
+// slowest block (checked against every possible cut on 2 and 3 ranks, equal speeds).
+TEST(LoadBalance, AHeavyPlaneGoesWhereItCostsLeast) {
+  const core::Index3 cells{12, 60, 12};
+  grid::Decomposition d(MPI_COMM_WORLD, cells, {false, false, false}, {1, 0, 1});
+  const int P = d.size();
+  if (P == 1 || P > 3) GTEST_SKIP() << "2 or 3 ranks";
+  const Points p = one_per_cell(d);
+  const std::size_t n = p.c[0].size();
+  constexpr int kHeavy = 31;  // on 2 ranks: lower_bound cuts at 32, the best cut is 31
+  std::vector<float> cost(n);
+  double units = 0;
+  for (std::size_t i = 0; i < n; ++i) units += cost[i] = p.c[1][i] == kHeavy + 0.5 ? 20.0f : 1.0f;
+  const auto decision =
+      particles::rebalance_starts(d, p.x, cost.data(), n, 1.0, {}, units * 1e-6, units, 0.0, 1);
+  std::vector<int> s(P + 1);  // the cut after the decision (kept when it is already the best)
+  for (int b = 0; b <= P; ++b)
+    s[b] = decision.moves() ? decision.starts[1][b] : d.block_start_of(1, b);
+  if (P == 2) EXPECT_TRUE(decision.moves() && s[1] == kHeavy);
+  std::vector<double> plane(cells.y, cells.x * cells.z * 1.0);
+  plane[kHeavy] *= 20;
+  const auto block = [&](int lo, int hi) {
+    double w = 0;
+    for (int k = lo; k < hi; ++k) w += plane[k];
+    return w;
+  };
+  double got = 0;
+  for (int b = 0; b < P; ++b) got = std::max(got, block(s[b], s[b + 1]));
+  double best = 1e300;
+  for (int c1 = 1; c1 < cells.y; ++c1)
+    if (P == 2)
+      best = std::min(best, std::max(block(0, c1), block(c1, cells.y)));
+    else
+      for (int c2 = c1 + 1; c2 < cells.y; ++c2)
+        best = std::min(best, std::max({block(0, c1), block(c1, c2), block(c2, cells.y)}));
+  EXPECT_EQ(got, best);
 }
 
 TEST(LoadBalance, NoMoveWithinTheTolerance) {
