@@ -569,8 +569,13 @@ void FlockScenario::poison_for_test() {
 }
 
 std::string FlockScenario::progress() {
-  return fmt::format("flying {} fleeing {} phi {:.3f} avalanches {} topplings {}", last_flying_,
-                     last_fleeing_, last_phi_, avalanches_, sandpile_->topplings());
+  std::string line =
+      fmt::format("flying {} fleeing {} phi {:.3f} avalanches {} topplings {}", last_flying_,
+                  last_fleeing_, last_phi_, avalanches_, sandpile_->topplings());
+  // How often the load balance moved the cut between ranks (flock.balance.*).
+  if (decomp_->size() > 1 && balance_interval_ > 0)
+    line += fmt::format(" cut moves {}", balance_moves_);
+  return line;
 }
 
 std::vector<std::string> FlockScenario::timer_sections() const {
