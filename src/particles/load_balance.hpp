@@ -2,9 +2,9 @@
 /// \file load_balance.hpp
 /// \brief Dynamic load balance of a particle decomposition by measured speed (the idea of LAMMPS
 /// `fix balance` shift): every rank reports the seconds its particle work took since the last
-/// balance and how many particle updates that was; the cut planes along each split axis move so
-/// that every rank gets particles in proportion to its measured speed. A rank on a slower core,
-/// or one whose particles have more neighbours, gets fewer particles.
+/// balance and how much estimated work (e.g. neighbours visited) that was; the cut planes along
+/// each split axis move so that every rank gets estimated work in proportion to its measured
+/// speed. A rank on a slower core gets less; a dense cluster counts for its neighbours.
 ///
 /// The cut only decides where particles are computed; a model whose results do not depend on
 /// the decomposition (the flock's, docs/flock.md) gives the same bits before and after a move.
