@@ -23,7 +23,7 @@ run mpirun -np 1 ./build/biota bench lbm
 run mpirun -np 2 ./build/biota bench lbm
 run ./build/biota bench flock --boids 100000 --steps 10
 run ./build/biota bench flock --boids 1000000 --steps 5
-run mpirun -np 2 ./build/biota bench flock --boids 1000000 --steps 5
+run mpirun -np 2 ./build/biota bench flock --boids 1000000 --steps 5 --rounds 3
 run mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare
 if [ -x build-v3/biota ]; then run build-v3/biota bench flock --boids 100000 --steps 10; fi
 run jobs/seaweed-experiment.sh

@@ -5,8 +5,11 @@
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
+#include <thread>
+#include <vector>
 
 #include "app/stream_probe.hpp"
 #include "core/config.hpp"
@@ -25,6 +28,7 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   schema.add_int("seed", 12345, 0, 1'000'000'000'000'000'000, "seed");
   scenarios::FlockScenario::declare_config(schema);
   const double R = 3.0;
+  constexpr int kWarmup = 3;
   // The host's limit beside the figures: the boid step waits on memory, so its rate moves with
   // the bandwidth each rank gets (measured alone, before the cases, on the same ranks).
   const double bw = stream_triad(comm);
@@ -37,11 +41,18 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         "{} m (bins of radius/{}), target {} boids within it, no predator, no noise, {} timed "
         "steps\n"
         "(updates/s/core: wall clock; per CPU-s: per second of CPU time the ranks received, which "
-        "differs on a shared machine)\n"
+        "differs on a shared machine; on several ranks each case runs on rank 0 alone first)\n"
         "{:>9} {:>8} {:>10} {:>12} {:>14} {:>14} {:>8} {:>8} {:>8}\n",
         size, R, opts.reach, opts.neighbours, opts.steps, "boids", "box [m]", "perceived",
         "step [ms]", "updates/s/core", "per CPU-s", "rules %", "comm %", "other %");
-  for (long long n : opts.boids) {
+  // One case on `c` (all ranks of c take part); the row is printed by rank 0 of `comm`.
+  struct CaseResult {
+    double step_ms = 0, rate = 0, rate_cpu = 0, rules_pct = 0, comm_pct = 0, perceived = 0;
+    long long moves = 0, owned_min = 0, owned_max = 0;
+  };
+  const auto run_case = [&](MPI_Comm c, long long n) {
+    int csize = 1;
+    MPI_Comm_size(c, &csize);
     // Density for `neighbours` boids in the perception sphere; box a multiple of dx = R.
     const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
     const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
@@ -57,11 +68,9 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         side, R, n, opts.reach, opts.balance_interval);
     const auto cfg = core::Config::from_string(schema, deck, "bench");
     core::Timers timers;
-    scenarios::RunContext ctx{comm, cfg, timers, "bench_flock_out"};
+    scenarios::RunContext ctx{c, cfg, timers, "bench_flock_out"};
     scenarios::FlockScenario sc(ctx);
-    const long long balance_every = cfg.get_int("flock.balance.interval");
-    constexpr int warmup = 3;
-    for (int k = 0; k < warmup; ++k) sc.step();
+    for (int k = 0; k < kWarmup; ++k) sc.step();
     timers = core::Timers{};
     sc.reset_neighbour_count();
     auto cpu_now = [] {
@@ -69,34 +78,84 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
       return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
     };
-    MPI_Barrier(comm);
+    MPI_Barrier(c);
     const double t0 = MPI_Wtime(), c0 = cpu_now();
     for (int k = 0; k < opts.steps; ++k) sc.step();
     double cpu = cpu_now() - c0;
-    MPI_Barrier(comm);
+    MPI_Barrier(c);
     const double t = MPI_Wtime() - t0;
-    MPI_Allreduce(MPI_IN_PLACE, &cpu, 1, MPI_DOUBLE, MPI_SUM, comm);
-    const double perceived = sc.mean_neighbours();
+    MPI_Allreduce(MPI_IN_PLACE, &cpu, 1, MPI_DOUBLE, MPI_SUM, c);
     double sec[2] = {timers.total("rules"), timers.total("comm")};
-    MPI_Allreduce(MPI_IN_PLACE, sec, 2, MPI_DOUBLE, MPI_MAX, comm);
-    const double rate = double(n) * opts.steps / t / size;
-    const double rate_cpu = double(n) * opts.steps / cpu;  // per CPU-second actually received
-    if (rank == 0)
+    MPI_Allreduce(MPI_IN_PLACE, sec, 2, MPI_DOUBLE, MPI_MAX, c);
+    long long owned[2] = {static_cast<long long>(sc.owned_boids()), 0};
+    owned[1] = -owned[0];
+    MPI_Allreduce(MPI_IN_PLACE, owned, 2, MPI_LONG_LONG, MPI_MAX, c);
+    CaseResult r;
+    r.step_ms = 1e3 * t / opts.steps;
+    r.rate = double(n) * opts.steps / t / csize;
+    r.rate_cpu = double(n) * opts.steps / cpu;  // per CPU-second actually received
+    r.rules_pct = 100 * sec[0] / t;
+    r.comm_pct = 100 * sec[1] / t;
+    r.perceived = sc.mean_neighbours();
+    r.moves = sc.balance_moves();
+    r.owned_max = owned[0];
+    r.owned_min = -owned[1];
+    return r;
+  };
+  const auto print_row = [&](long long n, const CaseResult& r, const std::string& note) {
+    const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
+    const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
+    fmt::print(
+        "{:>9} {:>8.0f} {:>10.1f} {:>12.2f} {:>14.3e} {:>14.3e} {:>8.1f} {:>8.1f} {:>8.1f}{}\n", n,
+        side, r.perceived, r.step_ms, r.rate, r.rate_cpu, r.rules_pct, r.comm_pct,
+        100 - r.rules_pct - r.comm_pct, note);
+  };
+  // On several ranks, rank 0 also runs each case alone first (the others wait): the parallel
+  // efficiency then compares two figures of the same minutes, not of two runs.
+  MPI_Comm solo = MPI_COMM_NULL;
+  if (size > 1) MPI_Comm_split(comm, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
+  for (long long n : opts.boids) {
+    std::vector<double> efficiency;
+    for (int round = 0; round < opts.rounds; ++round) {
+      CaseResult alone;
+      if (solo != MPI_COMM_NULL) {
+        alone = run_case(solo, n);
+        print_row(n, alone, "  (rank 0 alone)");
+      }
+      // The other ranks wait asleep, not in a busy-polling barrier that would hold a core.
+      MPI_Request arrived;
+      MPI_Ibarrier(comm, &arrived);
+      for (int done = 0; !done;) {
+        MPI_Test(&arrived, &done, MPI_STATUS_IGNORE);
+        if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      const CaseResult all = run_case(comm, n);
+      if (rank != 0) continue;
+      print_row(n, all, size > 1 ? fmt::format("  ({} ranks)", size) : std::string());
+      if (size == 1) continue;
+      efficiency.push_back(100 * all.rate / alone.rate);
       fmt::print(
-          "{:>9} {:>8.0f} {:>10.1f} {:>12.2f} {:>14.3e} {:>14.3e} {:>8.1f} {:>8.1f} {:>8.1f}\n", n,
-          side, perceived, 1e3 * t / opts.steps, rate, rate_cpu, 100 * sec[0] / t, 100 * sec[1] / t,
-          100 * (1 - (sec[0] + sec[1]) / t));
-    if (size > 1 && balance_every > 0 && balance_every <= warmup + opts.steps) {
-      long long owned[2] = {static_cast<long long>(sc.owned_boids()), 0};
-      owned[1] = -owned[0];
-      MPI_Allreduce(MPI_IN_PLACE, owned, 2, MPI_LONG_LONG, MPI_MAX, comm);
-      if (rank == 0)
+          "{:>9} parallel efficiency {:.0f}% (updates/s/core on {} ranks over rank 0 alone)\n", "",
+          efficiency.back(), size);
+      if (opts.balance_interval > 0 && opts.balance_interval <= kWarmup + opts.steps)
         fmt::print(
             "{:>9} load balance (flock.balance.interval = {}): the cut moved {} time(s) in "
             "{} warm-up and {} timed steps; boids per rank now {} to {}\n",
-            "", balance_every, sc.balance_moves(), warmup, opts.steps, -owned[1], owned[0]);
+            "", opts.balance_interval, all.moves, kWarmup, opts.steps, all.owned_min,
+            all.owned_max);
+    }
+    if (rank == 0 && efficiency.size() > 1) {
+      std::string each;
+      for (double e : efficiency) each += fmt::format(" {:.0f}", e);
+      std::vector<double> sorted = efficiency;
+      std::sort(sorted.begin(), sorted.end());
+      const std::size_t m = sorted.size();
+      const double median = m % 2 ? sorted[m / 2] : 0.5 * (sorted[m / 2 - 1] + sorted[m / 2]);
+      fmt::print("{:>9} parallel efficiency, median of {} rounds: {:.0f}% (rounds:{})\n", n, m,
+                 median, each);
     }
   }
+  if (solo != MPI_COMM_NULL) MPI_Comm_free(&solo);
   // Sandpile: topplings/s in the critical state (replicated, so every rank does the same work).
   for (int L : {16, 32}) {
     models::flock::Sandpile s(L, L, L, 1);

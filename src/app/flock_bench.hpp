@@ -17,6 +17,9 @@ struct FlockBenchOptions {
   /// up to 13 timed steps the benchmark then keeps the even cut (uniform boids, equal work).
   int balance_interval = 16;
   double neighbours = 20;  ///< target mean number of boids within the perception radius
+  /// Rounds per case; on several ranks each round times rank 0 alone, then all ranks, and the
+  /// efficiency printed is the median of the rounds' (the host drifts between rounds).
+  int rounds = 1;
 };
 
 /// \brief Run the benchmark on `comm`; prints a table on rank 0. Returns 0.

@@ -156,7 +156,9 @@ int main(int argc, char** argv) {
   bench->add_option("--steps", bench_opts.steps, "timed steps per case");
   bench
       ->add_option("--rounds", bench_opts.rounds,
-                   "lbm: rounds of the peer and every case, one after the other (medians)")
+                   "lbm: rounds of the peer and every case, one after the other (medians); "
+                   "flock: rounds of each case on rank 0 alone and on all ranks (median "
+                   "efficiency; default 1)")
       ->check(CLI::Range(1, 100));
   bench->add_option("--case", bench_opts.cases,
                     "lbm: only these cases, e.g. D3Q19/bgk (repeatable)");
@@ -211,6 +213,7 @@ int main(int argc, char** argv) {
     if (*lsystem) return app::run_lsystem_command(lsys, root);
     if (*bench && bench_what == "flock") {
       flock_opts.steps = bench_opts.steps == 200 ? flock_opts.steps : bench_opts.steps;
+      if (bench->count("--rounds") > 0) flock_opts.rounds = bench_opts.rounds;
       return app::run_flock_bench(MPI_COMM_WORLD, flock_opts);
     }
     if (*bench) return app::run_lbm_bench(MPI_COMM_WORLD, bench_opts);
