@@ -233,8 +233,14 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   const double wall0 = MPI_Wtime();
   const long long first_step = scenario->step_index();
   if (root) {
-    fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
-               first_step, last_step, dt, last_step * dt);
+    if (first_step > last_step)  // a restart past the deck's end: say so rather than run 0 steps
+      fmt::print(
+          "nothing to run: the restart is at step {} (t = {:.6g} s), past run.end_time = "
+          "{:.6g} s (step {}); raise run.end_time to go on\n",
+          first_step, first_step * dt, last_step * dt, last_step);
+    else
+      fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
+                 first_step, last_step, dt, last_step * dt);
     fmt::print("output in {}, checkpoints in {}\n", out_dir, ckpt_dir);
   }
   std::string table, traffic;
