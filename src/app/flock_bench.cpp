@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/bench_stats.hpp"
 #include "app/stream_probe.hpp"
 #include "core/config.hpp"
 #include "core/timers.hpp"
@@ -47,7 +48,8 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         "step [ms]", "updates/s/core", "per CPU-s", "rules %", "comm %", "other %");
   // One case on `c` (all ranks of c take part); the row is printed by rank 0 of `comm`.
   struct CaseResult {
-    double step_ms = 0, rate = 0, rate_cpu = 0, rules_pct = 0, comm_pct = 0, perceived = 0;
+    double side = 0, step_ms = 0, rate = 0, rate_cpu = 0, rules_pct = 0, comm_pct = 0,
+           perceived = 0;
     long long moves = 0, owned_min = 0, owned_max = 0;
   };
   const auto run_case = [&](MPI_Comm c, long long n) {
@@ -91,6 +93,7 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
     owned[1] = -owned[0];
     MPI_Allreduce(MPI_IN_PLACE, owned, 2, MPI_LONG_LONG, MPI_MAX, c);
     CaseResult r;
+    r.side = side;
     r.step_ms = 1e3 * t / opts.steps;
     r.rate = double(n) * opts.steps / t / csize;
     r.rate_cpu = double(n) * opts.steps / cpu;  // per CPU-second actually received
@@ -103,11 +106,9 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
     return r;
   };
   const auto print_row = [&](long long n, const CaseResult& r, const std::string& note) {
-    const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
-    const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
     fmt::print(
         "{:>9} {:>8.0f} {:>10.1f} {:>12.2f} {:>14.3e} {:>14.3e} {:>8.1f} {:>8.1f} {:>8.1f}{}\n", n,
-        side, r.perceived, r.step_ms, r.rate, r.rate_cpu, r.rules_pct, r.comm_pct,
+        r.side, r.perceived, r.step_ms, r.rate, r.rate_cpu, r.rules_pct, r.comm_pct,
         100 - r.rules_pct - r.comm_pct, note);
   };
   // On several ranks, rank 0 also runs each case alone first (the others wait): the parallel
@@ -147,12 +148,8 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
     if (rank == 0 && efficiency.size() > 1) {
       std::string each;
       for (double e : efficiency) each += fmt::format(" {:.0f}", e);
-      std::vector<double> sorted = efficiency;
-      std::sort(sorted.begin(), sorted.end());
-      const std::size_t m = sorted.size();
-      const double median = m % 2 ? sorted[m / 2] : 0.5 * (sorted[m / 2 - 1] + sorted[m / 2]);
-      fmt::print("{:>9} parallel efficiency, median of {} rounds: {:.0f}% (rounds:{})\n", n, m,
-                 median, each);
+      fmt::print("{:>9} parallel efficiency, median of {} rounds: {:.0f}% (rounds:{})\n", n,
+                 efficiency.size(), median(efficiency), each);
     }
   }
   if (solo != MPI_COMM_NULL) MPI_Comm_free(&solo);

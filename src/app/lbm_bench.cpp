@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "app/bench_stats.hpp"
 #include "app/stream_probe.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
@@ -105,12 +106,6 @@ struct CaseResult {
   double halo_pct = 0;   ///< slowest rank's halo time, % of the single-step time
   double bound_pct = 0;  ///< slowest rank's boundary time, % of the single-step time
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 // One case in the tank configuration (walls, free-slip top, inlet jet, outlet annulus, Guo
 // forcing on), on equal blocks or on `starts` (--balance-speed).

@@ -8,7 +8,7 @@
 namespace biota::scenarios {
 
 void FlockScenario::begin_step() {
-  if (balance_interval_ > 0 && step_ % balance_interval_ == 0) rebalance();
+  if (balancing() && step_ % balance_interval_ == 0) rebalance();
   pcomm_->migrate(*set_);
   if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
     cells_.build(set_->real(particles::ParticleSet::kPos, 0),
@@ -41,7 +41,7 @@ void FlockScenario::rebalance() {
   // rank's core, which is what the cut has to follow.
   const double rules = ctx_.timers.total("rules");
   double seconds = rules - rules_seconds_at_balance_;
-  const double updates = work_since_balance_;
+  const double work = work_since_balance_;
   rules_seconds_at_balance_ = rules;
   work_since_balance_ = 0;
   if (!(seconds > 0)) seconds = 0;  // the timers were reset (benchmarks): measure afresh
@@ -53,14 +53,14 @@ void FlockScenario::rebalance() {
   // boid_cost_: the last rules phase's work per owned slot (no migration since).
   const auto decision = particles::rebalance_starts(
       *decomp_, x, boid_cost_.size() == set_->n_owned() ? boid_cost_.data() : nullptr,
-      set_->n_owned(), grid_dx_, lo_, seconds, updates, balance_tolerance_, min_cells);
+      set_->n_owned(), grid_dx_, lo_, seconds, work, balance_tolerance_, min_cells);
   if (!decision.moves()) return;
   sent_before_balance_ += pcomm_->sent();
   // The old ParticleComm refers to the old decomposition: replace both, then migrate.
   pcomm_.reset();
-  decomp_ = std::make_unique<grid::Decomposition>(
-      ctx_.comm, grid_cells_, std::array<bool, 3>{periodic_, periodic_, periodic_}, decomp_->dims(),
-      grid_keys_, decision.starts);
+  decomp_ =
+      std::make_unique<grid::Decomposition>(ctx_.comm, decomp_->global_cells(), decomp_->periodic(),
+                                            decomp_->dims(), grid_keys_, decision.starts);
   pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, grid_dx_);
   ++balance_moves_;
 }

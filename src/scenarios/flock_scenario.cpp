@@ -54,7 +54,6 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
       if (size[d] < 3 * radius_)
         c.fail("flock.domain.size",
                "must be >= 3 perception radii on a periodic box (no double images)");
-  grid_cells_ = cells;
   grid_dx_ = dx;
   grid_keys_ = grid::GridKeys{
       c.source(),
@@ -388,7 +387,11 @@ void FlockScenario::step() {
   {
     auto scope = ctx_.timers.scope("rules");
     const std::size_t no = set_->n_owned();
-    boid_cost_.assign(no, 1.0f);
+    // Work estimates for the load balance, only where it runs: 1 per boid, plus the candidates
+    // tested and the neighbours perceived per prey (flock_decomposition.cpp).
+    const bool track_cost = balancing();
+    if (track_cost) boid_cost_.assign(no, 1.0f);
+    double work = static_cast<double>(no);
     // Reused across steps: every flying boid that is not launched gets acc[i] below before it
     // is read, so only the launch flags need clearing.
     acc_.resize(no);
@@ -431,6 +434,7 @@ void FlockScenario::step() {
         const double dstar = dstar_of[i];
         // Initialised once, by the path taken (a default NeighbourSums overwritten by the
         // result cost a 120-byte clear per boid).
+        std::size_t candidates = 0;
         const mf::NeighbourSums s = [&] {
           if (align_mode_ == mf::AlignmentMode::kAverage) {
             if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
@@ -438,12 +442,12 @@ void FlockScenario::step() {
                           eligible_.data(), R2);
               gathered_end = bin_last;
             }
-            boid_cost_[i] += static_cast<float>(bin_.size());
+            candidates = bin_.size();
             return bin_.sums(x, v, R2, fov_cos_, dstar);
           }
           mf::NeighbourSums near_sums;
           cells_.for_each_near(x, [&](std::size_t j) {
-            ++boid_cost_[i];
+            ++candidates;
             const Vec3 d{X[j] - x.x, Y[j] - x.y, Z[j] - x.z};
             const double r2 = core::dot(d, d);
             if (r2 >= R2 || !eligible_[j]) return;
@@ -453,7 +457,11 @@ void FlockScenario::step() {
           return near_sums;
         }();
         neighbour_sum_ += s.count;
-        boid_cost_[i] += static_cast<float>(s.count);
+        if (track_cost) {
+          const double extra = static_cast<double>(candidates + s.count);
+          boid_cost_[i] += static_cast<float>(extra);
+          work += extra;
+        }
         ++prey_updates_;
         // Flee the nearest active predator (tie: lower id); boosted, at any range, while fleeing.
         Vec3 flee{};
@@ -477,7 +485,7 @@ void FlockScenario::step() {
         acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), turn);
       }
     }
-    for (const float c : boid_cost_) work_since_balance_ += c;
+    if (track_cost) work_since_balance_ += work;
     // Column pointers hoisted: the stores below would otherwise make the compiler reload them
     // through set_ for every boid.
     const core::GlobalId* own_ids = set_->u64(particles::ParticleSet::kId);
@@ -573,8 +581,7 @@ std::string FlockScenario::progress() {
       fmt::format("flying {} fleeing {} phi {:.3f} avalanches {} topplings {}", last_flying_,
                   last_fleeing_, last_phi_, avalanches_, sandpile_->topplings());
   // How often the load balance moved the cut between ranks (flock.balance.*).
-  if (decomp_->size() > 1 && balance_interval_ > 0)
-    line += fmt::format(" cut moves {}", balance_moves_);
+  if (balancing()) line += fmt::format(" cut moves {}", balance_moves_);
   return line;
 }
 

@@ -90,6 +90,8 @@ class FlockScenario : public Scenario {
   void begin_step();  // migrate + ghosts + cell list
   /// Move the cut between ranks by measured speed (flock_decomposition.cpp); before a migration.
   void rebalance();
+  /// Whether the load balance runs: several ranks and flock.balance.interval > 0.
+  bool balancing() const { return balance_interval_ > 0 && decomp_->size() > 1; }
   std::vector<Predator> gather_predators() const;
   /// \brief (id, x, v) of every owned boid on every rank that passes `keep`, sorted by id.
   std::vector<BoidRecord> gather_records(bool predators_only) const;
@@ -114,15 +116,16 @@ class FlockScenario : public Scenario {
   // Domain and boids.
   std::unique_ptr<grid::Decomposition> decomp_;
   std::unique_ptr<particles::ParticleComm> pcomm_;
-  // Load balance: the grid the cut is made on, and the work since the last check.
-  core::Index3 grid_cells_{};
+  // Load balance: what a new cut's Decomposition and ParticleComm need beyond the old ones, and
+  // the work since the last check.
   grid::GridKeys grid_keys_;
   double grid_dx_ = 0;
   int balance_interval_ = 0;
   double balance_tolerance_ = 0;
   double rules_seconds_at_balance_ = 0;
-  double work_since_balance_ = 0;  ///< sum of boid_cost_ over the rules phases since
-  /// Per owned slot, the last rules phase's work estimate: 1 + candidates tested + neighbours.
+  double work_since_balance_ = 0;  ///< sum of the work estimates over the rules phases since
+  /// Per owned slot, the last rules phase's work estimate: 1 + candidates tested + neighbours
+  /// (kept only while the balance runs: several ranks and flock.balance.interval > 0).
   std::vector<float> boid_cost_;
   long long balance_moves_ = 0;
   core::CommCounter sent_before_balance_;  ///< sent by the ParticleComms of earlier cuts
