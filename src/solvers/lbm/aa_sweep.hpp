@@ -127,7 +127,8 @@ void aa_stream_collide(const AaSweepArgs& a) {
     return reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(p) +
                                          static_cast<std::uintptr_t>(bytes));
   };
-  constexpr std::ptrdiff_t kLine0 = kPrefetchAhead * 8, kLine1 = kLine0 + 64;
+  constexpr std::ptrdiff_t kLine0 = kPrefetchAhead * std::ptrdiff_t{sizeof(double)},
+                           kLine1 = kLine0 + 64;
   auto chunks = [&]<bool kLoad>(std::ptrdiff_t begin, std::ptrdiff_t end)
       __attribute__((always_inline)) {
     for (std::ptrdiff_t c0 = begin; c0 < end; c0 += kChunk) {
