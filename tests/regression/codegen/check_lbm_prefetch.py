@@ -3,15 +3,16 @@
 its software prefetches: at least two per population stream (30 for D3Q15, 38 for D3Q19). The
 prefetch made the sweep 1.3-1.5x faster (docs/lbm.md), and GCC drops it silently when it sits in a
 function that does nothing else, so a refactor could lose it with every test still green. Reads
-the disassembly only; times nothing. Exit 77 (skipped) without objdump.
+the disassembly only; times nothing. Exit 77 (skipped) off x86-64 or without objdump.
 Usage: check_lbm_prefetch.py <biota>"""
+import platform
 import re
 import shutil
 import subprocess
 import sys
 
-if not shutil.which("objdump"):
-    print("objdump not found: skipped")
+if platform.machine() not in ("x86_64", "AMD64") or not shutil.which("objdump"):
+    print("not x86-64 or no objdump: skipped")
     sys.exit(77)
 dis = subprocess.run(["objdump", "-d", "-C", "--no-show-raw-insn", sys.argv[1]],
                      capture_output=True, text=True, check=True).stdout
