@@ -1,7 +1,8 @@
 #include "particles/load_balance.hpp"
 
 #include <algorithm>
-#include <cmath>
+
+#include "grid/plane_weights.hpp"
 
 namespace biota::particles {
 
@@ -67,17 +68,12 @@ BalanceDecision rebalance_starts(const grid::Decomposition& d, const double* con
   out.imbalance = slowest / (sum / P);
   if (out.imbalance <= 1 + tolerance) return out;
   // Estimated work per plane of cells along every split axis, summed over the ranks.
-  const core::Index3 dims = d.dims(), cells = d.global_cells();
-  std::array<std::vector<double>, 3> planes;
-  for (int a = 0; a < 3; ++a) {
-    if (dims[a] == 1) continue;
-    planes[a].assign(cells[a], 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const int c = static_cast<int>(std::floor((x[a][i] - origin[a]) / dx));
-      planes[a][std::clamp(c, 0, cells[a] - 1)] += cost ? cost[i] : 1.0;
-    }
-    MPI_Allreduce(MPI_IN_PLACE, planes[a].data(), cells[a], MPI_DOUBLE, MPI_SUM, d.comm());
-  }
+  const core::Index3 dims = d.dims();
+  grid::PlaneWeights weights(dims, d.global_cells(), dx, origin);
+  for (std::size_t i = 0; i < n; ++i)
+    weights.add({x[0][i], x[1][i], x[2][i]}, cost ? cost[i] : 1.0);
+  weights.sum_over(d.comm());
+  const auto& planes = weights.planes();
   // weighted_block_starts directly, not balanced_block_starts: its floor of half an even block
   // suits grid work; particles may gather in a few planes, so only the ghost cutoff bounds a block.
   const auto capacity = grid::block_capacities(dims, speed);

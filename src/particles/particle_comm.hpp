@@ -59,6 +59,8 @@ class ParticleComm {
   /// \brief Messages and bytes this rank has sent (face-neighbour passes: one count message and
   /// one payload message per pass and side; redistribute's all-to-all counts one per peer).
   const core::CommCounter& sent() const { return sent_; }
+  /// \brief Edge of the decomposition's cells (m).
+  Real cell_size() const { return dx_; }
 
  private:
   // Rank coordinate along axis d of the physical coordinate v. Inline for the common answer

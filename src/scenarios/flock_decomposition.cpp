@@ -49,11 +49,12 @@ void FlockScenario::rebalance() {
                         set_->real(particles::ParticleSet::kPos, 1),
                         set_->real(particles::ParticleSet::kPos, 2)};
   // Blocks at least the ghost cutoff (the perception radius) thick.
-  const int min_cells = std::max(1, static_cast<int>(std::ceil(radius_ / grid_dx_ - 1e-12)));
+  const double dx = pcomm_->cell_size();
+  const int min_cells = std::max(1, static_cast<int>(std::ceil(radius_ / dx - 1e-12)));
   // boid_cost_: the last rules phase's work per owned slot (no migration since).
   const auto decision = particles::rebalance_starts(
       *decomp_, x, boid_cost_.size() == set_->n_owned() ? boid_cost_.data() : nullptr,
-      set_->n_owned(), grid_dx_, lo_, seconds, work, balance_tolerance_, min_cells);
+      set_->n_owned(), dx, lo_, seconds, work, balance_tolerance_, min_cells);
   if (!decision.moves()) return;
   sent_before_balance_ += pcomm_->sent();
   // The old ParticleComm refers to the old decomposition: replace both, then migrate.
@@ -61,7 +62,7 @@ void FlockScenario::rebalance() {
   decomp_ =
       std::make_unique<grid::Decomposition>(ctx_.comm, decomp_->global_cells(), decomp_->periodic(),
                                             decomp_->dims(), grid_keys_, decision.starts);
-  pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, grid_dx_);
+  pcomm_ = std::make_unique<particles::ParticleComm>(*decomp_, dx);
   ++balance_moves_;
 }
 

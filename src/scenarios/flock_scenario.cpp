@@ -54,7 +54,6 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
       if (size[d] < 3 * radius_)
         c.fail("flock.domain.size",
                "must be >= 3 perception radii on a periodic box (no double images)");
-  grid_dx_ = dx;
   grid_keys_ = grid::GridKeys{
       c.source(),
       {"flock.domain.size[0] / flock.domain.dx", "flock.domain.size[1] / flock.domain.dx",

@@ -119,7 +119,6 @@ class FlockScenario : public Scenario {
   // Load balance: what a new cut's Decomposition and ParticleComm need beyond the old ones, and
   // the work since the last check.
   grid::GridKeys grid_keys_;
-  double grid_dx_ = 0;
   int balance_interval_ = 0;
   double balance_tolerance_ = 0;
   double rules_seconds_at_balance_ = 0;

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "coupling/particle_transfer.hpp"
+#include "grid/plane_weights.hpp"
 #include "grid/two_phase_cut.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
@@ -178,21 +179,12 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
 std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
     const core::Index3& dims, const solvers::lbm::LbmParams& params,
     const models::plants::Population& pop, double spacing) {
-  std::array<std::vector<double>, 3> count;
-  for (int a = 0; a < 3; ++a)
-    if (dims[a] > 1) count[a].assign(params.cells[a], 0.0);
-  auto add = [&](const Vec3& x) {
-    for (int a = 0; a < 3; ++a)
-      if (!count[a].empty()) {
-        const double c = std::floor(x[a] / params.dx);
-        count[a][static_cast<std::size_t>(std::clamp(c, 0.0, params.cells[a] - 1.0))] += 1;
-      }
-  };
+  grid::PlaneWeights count(dims, params.cells, params.dx);
   if (ctx_.restart_path.empty()) {  // the grown plants, the same on every rank
     mp::for_each_sphere(
         pop, spacing,
-        [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) { add(x); });
-    return count;
+        [&](std::uint64_t, const Vec3& x, int, std::uint64_t, const Vec3&) { count.add(x); });
+    return count.planes();
   }
   // A restart: where the spheres are now (they drift), each rank its share of the rows, summed.
   // The share is kept for read_checkpoint (it does not depend on the cut), so it is read once.
@@ -207,13 +199,10 @@ std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
   set.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) {
     set.unpack(k, false, restart_rows_.data() + k * restart_width_);
-    add(set.pos(k));
+    count.add(set.pos(k));
   }
-  for (auto& c : count)
-    if (!c.empty())
-      MPI_Allreduce(MPI_IN_PLACE, c.data(), static_cast<int>(c.size()), MPI_DOUBLE, MPI_SUM,
-                    ctx_.comm);
-  return count;
+  count.sum_over(ctx_.comm);
+  return count.planes();
 }
 
 void SeaweedScenario::check_particle_halo(const mp::MechanicsParams& mpar, double dx) {
