@@ -344,6 +344,13 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   };
   constexpr std::size_t kHotReals = sizeof(Hot) / sizeof(Real);
   static_assert(sizeof(Hot) % sizeof(Real) == 0);
+  // The 23 child columns the gather reads, prefetched kPrefetchJoints joints ahead: the hardware
+  // prefetchers do not keep that many streams ahead, and the gather stalled on their loads
+  // (docs/performance-seaweed.md, session 24: the particle step 0.82-0.88x in one process).
+  const Real* const child_cols[] = {qw,    qx,    qy,    qz,    rw,    rx,    ry,   rz,
+                                    ac.c0, ac.c1, ac.c2, ap.c0, ap.c1, ap.c2, x.c0, x.c1,
+                                    x.c2,  v.c0,  v.c1,  v.c2,  w.c0,  w.c1,  w.c2};
+  constexpr std::size_t kPrefetchJoints = 4 * kJointBlock;
   for (std::size_t m0 = 0; m0 < nj; m0 += kJointBlock) {
     const int lanes = static_cast<int>(std::min<std::size_t>(kJointBlock, nj - m0));
     std::size_t ci[kJointBlock], pj_reals[kJointBlock];
@@ -352,6 +359,16 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       const auto [c, p] = joints_[m0 + (l < lanes ? l : 0)];
       ci[l] = c, pj_reals[l] = p * kHotReals;
       runs = runs && c == ci[0] + l;
+    }
+    if (m0 + kPrefetchJoints < nj) {
+      // The line of the ahead block's last child: its first child's line is that of the slot
+      // before, prefetched a block earlier, when the blocks run on consecutive slots (most do).
+      // Written in the loop: GCC drops a prefetch in a helper that does nothing else.
+      const auto [c, p] = joints_[m0 + kPrefetchJoints];
+      const std::size_t last = std::min(c + kJointBlock - 1, nt - 1);
+      for (const Real* col : child_cols) __builtin_prefetch(col + last, 0, 3);
+      __builtin_prefetch(hot + p, 0, 3);
+      __builtin_prefetch(reinterpret_cast<const char*>(hot + p) + 64, 0, 3);
     }
     if (runs)
       gather(ci[0], pj_reals);
