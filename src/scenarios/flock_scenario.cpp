@@ -261,11 +261,6 @@ void FlockScenario::place_boids() {
   }
 }
 
-bool FlockScenario::flying(core::GlobalId id) const {
-  if (!is_prey(id)) return step_ >= pred_start_step_;
-  return static_cast<double>(id) * takeoff_interval_ <= (static_cast<double>(step_) + 0.5) * dt_;
-}
-
 Vec3 FlockScenario::min_image(Vec3 d) const {
   if (!periodic_) return d;
   for (int k = 0; k < 3; ++k) {

@@ -100,7 +100,10 @@ class FlockScenario : public Scenario {
   double heading_angle(core::GlobalId id);
   void record_order(const std::vector<NearestPrey>& near);
   void open_csv(bool resume);
-  bool flying(core::GlobalId id) const;
+  bool flying(core::GlobalId id) const {
+    if (!is_prey(id)) return step_ >= pred_start_step_;
+    return static_cast<double>(id) * takeoff_interval_ <= (static_cast<double>(step_) + 0.5) * dt_;
+  }
   bool is_prey(core::GlobalId id) const { return id < static_cast<core::GlobalId>(n_prey_); }
   bool fleeing(core::GlobalId id) const {
     return is_prey(id) && flee_until_[id % flee_until_.size()] > step_;
