@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""The hot loops that gained from a software prefetch still hold it in the built binary:
+- every instantiation of the production LBM sweep (`aa_stream_collide`): at least two prefetches
+  per population stream (30 for D3Q15, 38 for D3Q19); the sweep is 1.3-1.5x faster with them
+  (docs/lbm.md);
+- the seaweed joint gather in `SeaweedBodies::compute_forces`: at least three (the child columns'
+  loop and the parent record's two lines); the particle step is 0.82-0.88x with them
+  (docs/performance-seaweed.md, session 24).
+GCC drops a prefetch silently when it sits in a function that does nothing else, so a refactor
+could lose one with every test still green. Reads the disassembly only; times nothing. Exit 77
+(skipped) off x86-64 or without objdump.
+Usage: check_prefetch.py <biota>"""
+import platform
+import re
+import shutil
+import subprocess
+import sys
+
+if platform.machine() not in ("x86_64", "AMD64") or not shutil.which("objdump"):
+    print("not x86-64 or no objdump: skipped")
+    sys.exit(77)
+dis = subprocess.run(["objdump", "-d", "-C", "--no-show-raw-insn", sys.argv[1]],
+                     capture_output=True, text=True, check=True).stdout
+
+
+def is_lbm_sweep(name):
+    return "aa_stream_collide<" in name and "lambda" not in name
+
+
+def is_joint_gather(name):
+    return name.startswith("biota::models::plants::SeaweedBodies::compute_forces(")
+
+
+counts = {}
+current = None
+for line in dis.splitlines():
+    head = re.match(r"^[0-9a-f]+ <(.*)>:$", line)
+    if head:
+        name = head.group(1)
+        current = name if is_lbm_sweep(name) or is_joint_gather(name) else None
+        if current:
+            counts[current] = 0
+    elif current and re.search(r"\tprefetch", line):
+        counts[current] += 1
+sweeps = {n: c for n, c in counts.items() if is_lbm_sweep(n)}
+gathers = {n: c for n, c in counts.items() if is_joint_gather(n)}
+failures = []
+if len(sweeps) < 8:
+    failures.append(f"only {len(sweeps)} aa_stream_collide instantiations found")
+for name, n in sorted(sweeps.items()):
+    need = 2 * (19 if "D3Q19" in name else 15)
+    if n < need:
+        failures.append(f"{n} prefetch instructions (< {need}) in {name}")
+if len(gathers) != 1:
+    failures.append(f"{len(gathers)} SeaweedBodies::compute_forces found (expected 1)")
+for name, n in gathers.items():
+    if n < 3:
+        failures.append(f"{n} prefetch instructions (< 3) in {name}")
+for f in failures:
+    print("FAIL:", f)
+print(f"{len(sweeps)} sweep instantiations, prefetches per instantiation "
+      f"{min(sweeps.values(), default=0)}-{max(sweeps.values(), default=0)}; "
+      f"joint gather {sum(gathers.values())}")
+sys.exit(1 if failures else 0)
