@@ -100,6 +100,7 @@ class FlockScenario : public Scenario {
   double heading_angle(core::GlobalId id);
   void record_order(const std::vector<NearestPrey>& near);
   void open_csv(bool resume);
+  // Inline: asked for every slot and every boid in each step (performance-flock.md, session 24).
   bool flying(core::GlobalId id) const {
     if (!is_prey(id)) return step_ >= pred_start_step_;
     return static_cast<double>(id) * takeoff_interval_ <= (static_cast<double>(step_) + 0.5) * dt_;

@@ -344,9 +344,10 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   };
   constexpr std::size_t kHotReals = sizeof(Hot) / sizeof(Real);
   static_assert(sizeof(Hot) % sizeof(Real) == 0);
-  // The 23 child columns the gather reads, prefetched kPrefetchJoints joints ahead: the hardware
-  // prefetchers do not keep that many streams ahead, and the gather stalled on their loads
-  // (docs/performance-seaweed.md, session 24: the particle step 0.82-0.88x in one process).
+  // The 23 child columns the gather reads (its child() calls; keep the two lists alike),
+  // prefetched kPrefetchJoints joints ahead: the hardware prefetchers do not keep that many
+  // streams ahead, and the gather stalled on their loads (docs/performance-seaweed.md,
+  // session 24: the particle step 0.82-0.88x in one process).
   const Real* const child_cols[] = {qw,    qx,    qy,    qz,    rw,    rx,    ry,   rz,
                                     ac.c0, ac.c1, ac.c2, ap.c0, ap.c1, ap.c2, x.c0, x.c1,
                                     x.c2,  v.c0,  v.c1,  v.c2,  w.c0,  w.c1,  w.c2};
