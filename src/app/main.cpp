@@ -153,7 +153,8 @@ int main(int argc, char** argv) {
   bench->add_option("what", bench_what, "what to benchmark")
       ->check(CLI::IsMember({"lbm", "flock"}));
   bench->add_option("--size", bench_opts.size, "cells per axis");
-  bench->add_option("--steps", bench_opts.steps, "timed steps per case");
+  bench->add_option("--steps", bench_opts.steps, "timed steps per case")
+      ->check(CLI::Range(1, 1'000'000));
   bench
       ->add_option("--rounds", bench_opts.rounds,
                    "lbm: rounds of the peer and every case, one after the other (medians); "
@@ -212,7 +213,8 @@ int main(int argc, char** argv) {
     }
     if (*lsystem) return app::run_lsystem_command(lsys, root);
     if (*bench && bench_what == "flock") {
-      flock_opts.steps = bench_opts.steps == 200 ? flock_opts.steps : bench_opts.steps;
+      // Options shared with the lbm benchmark override the flock's own defaults only when given.
+      if (bench->count("--steps") > 0) flock_opts.steps = bench_opts.steps;
       if (bench->count("--rounds") > 0) flock_opts.rounds = bench_opts.rounds;
       return app::run_flock_bench(MPI_COMM_WORLD, flock_opts);
     }
