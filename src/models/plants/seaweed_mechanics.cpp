@@ -6,6 +6,7 @@
 #include <numbers>
 #include <numeric>
 #include <type_traits>
+#include <utility>
 
 #include "core/quat.hpp"
 #include "models/plants/seaweed_body_forces.hpp"
@@ -313,44 +314,41 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
   for (std::size_t i = 0; i < nt; ++i)
     hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {qw[i], qx[i], qy[i], qz[i]}, {0, 0}};
   const Hot* hot = hot_.data();
+  // The child inputs of a block: the lane each is copied to, and its column. The gather copies
+  // them; the joint loop prefetches the columns ahead of it.
+  const std::pair<Real*, const Real*> child_inputs[] = {
+      {jb.qc.w, qw},    {jb.qc.x, qx},    {jb.qc.y, qy},    {jb.qc.z, qz},    {jb.qr.w, rw},
+      {jb.qr.x, rx},    {jb.qr.y, ry},    {jb.qr.z, rz},    {jb.ac.x, ac.c0}, {jb.ac.y, ac.c1},
+      {jb.ac.z, ac.c2}, {jb.ap.x, ap.c0}, {jb.ap.y, ap.c1}, {jb.ap.z, ap.c2}, {jb.xc.x, x.c0},
+      {jb.xc.y, x.c1},  {jb.xc.z, x.c2},  {jb.vc.x, v.c0},  {jb.vc.y, v.c1},  {jb.vc.z, v.c2},
+      {jb.wc.x, w.c0},  {jb.wc.y, w.c1},  {jb.wc.z, w.c2}};
   // Lanes are filled one input at a time by gather_lane (one vector gather and store, so the
   // law's vector loads find whole stores). A parent's inputs come from its record: `hot_reals`
   // is the offset of the record of slot pj[l], and the field's offset in it is added to the
   // base. Where a block's children are consecutive slots (joints are listed in child order; 86%
   // of the blocks at t = 8 s) a child input is one 64-byte copy from its column.
   const auto gather = [&](auto ci, const std::size_t* hot_reals) {
-    const auto child = [&](Real* dst, const Real* src) {
+    for (const auto& [dst, src] : child_inputs) {
       if constexpr (std::is_integral_v<decltype(ci)>)  // lanes ci, ci + 1, ...
         std::memcpy(dst, src + ci, sizeof(JointBlock::Lane));
       else
         gather_lane(dst, src, ci);
-    };
+    }
     const auto parent = [&](Real* dst, const Real& field) {
       gather_lane(dst, &field, hot_reals);  // field: a member of hot[0]
     };
     const Hot& h = hot[0];
-    child(jb.qc.w, qw), child(jb.qc.x, qx), child(jb.qc.y, qy), child(jb.qc.z, qz);
     parent(jb.qp.w, h.q[0]), parent(jb.qp.x, h.q[1]), parent(jb.qp.y, h.q[2]);
     parent(jb.qp.z, h.q[3]);
-    child(jb.qr.w, rw), child(jb.qr.x, rx), child(jb.qr.y, ry), child(jb.qr.z, rz);
-    child(jb.ac.x, ac.c0), child(jb.ac.y, ac.c1), child(jb.ac.z, ac.c2);
-    child(jb.ap.x, ap.c0), child(jb.ap.y, ap.c1), child(jb.ap.z, ap.c2);
-    child(jb.xc.x, x.c0), child(jb.xc.y, x.c1), child(jb.xc.z, x.c2);
     parent(jb.xp.x, h.x.x), parent(jb.xp.y, h.x.y), parent(jb.xp.z, h.x.z);
-    child(jb.vc.x, v.c0), child(jb.vc.y, v.c1), child(jb.vc.z, v.c2);
     parent(jb.vp.x, h.v.x), parent(jb.vp.y, h.v.y), parent(jb.vp.z, h.v.z);
-    child(jb.wc.x, w.c0), child(jb.wc.y, w.c1), child(jb.wc.z, w.c2);
     parent(jb.wp.x, h.w.x), parent(jb.wp.y, h.w.y), parent(jb.wp.z, h.w.z);
   };
   constexpr std::size_t kHotReals = sizeof(Hot) / sizeof(Real);
   static_assert(sizeof(Hot) % sizeof(Real) == 0);
-  // The 23 child columns the gather reads (its child() calls; keep the two lists alike),
-  // prefetched kPrefetchJoints joints ahead: the hardware prefetchers do not keep that many
-  // streams ahead, and the gather stalled on their loads (docs/performance-seaweed.md,
-  // session 24: the particle step 0.82-0.88x in one process).
-  const Real* const child_cols[] = {qw,    qx,    qy,    qz,    rw,    rx,    ry,   rz,
-                                    ac.c0, ac.c1, ac.c2, ap.c0, ap.c1, ap.c2, x.c0, x.c1,
-                                    x.c2,  v.c0,  v.c1,  v.c2,  w.c0,  w.c1,  w.c2};
+  // The 23 child columns are prefetched kPrefetchJoints joints ahead: the hardware prefetchers
+  // do not keep that many streams ahead, and the gather stalled on their loads
+  // (docs/performance-seaweed.md, session 24: the particle step 0.82-0.88x in one process).
   constexpr std::size_t kPrefetchJoints = 4 * kJointBlock;
   for (std::size_t m0 = 0; m0 < nj; m0 += kJointBlock) {
     const int lanes = static_cast<int>(std::min<std::size_t>(kJointBlock, nj - m0));
@@ -367,7 +365,7 @@ void SeaweedBodies::compute_forces(Real dt_sub) {
       // Written in the loop: GCC drops a prefetch in a helper that does nothing else.
       const auto [c, p] = joints_[m0 + kPrefetchJoints];
       const std::size_t last = std::min(c + kJointBlock - 1, nt - 1);
-      for (const Real* col : child_cols) __builtin_prefetch(col + last, 0, 3);
+      for (const auto& input : child_inputs) __builtin_prefetch(input.second + last, 0, 3);
       __builtin_prefetch(hot + p, 0, 3);
       __builtin_prefetch(reinterpret_cast<const char*>(hot + p) + 64, 0, 3);
     }
