@@ -31,6 +31,9 @@ test), so work in progress survives a round of measurement.
 import pathlib
 import sys
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import source_patch  # noqa: E402
+
 p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_mechanics.cpp"
 # (original text, instrumented text)
 EDITS = [
@@ -83,12 +86,4 @@ using particles::kNoId;'''),
     // Symplectic'''),
 ]
 
-s = p.read_text()
-revert = "--revert" in sys.argv[1:]
-for original, instrumented in EDITS:
-    old, new = (instrumented, original) if revert else (original, instrumented)
-    if s.count(old) != 1:
-        sys.exit(f"seaweed_ab_patch.py: expected text not found once in {p}; already "
-                 f"{'reverted' if revert else 'patched'}?")
-    s = s.replace(old, new)
-p.write_text(s)
+source_patch.apply(p, EDITS, "seaweed_ab_patch.py")

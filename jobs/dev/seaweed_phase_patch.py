@@ -22,6 +22,9 @@ cycle-5 run):
 import pathlib
 import sys
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import source_patch  # noqa: E402
+
 p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_mechanics.cpp"
 
 
@@ -95,12 +98,4 @@ EDITS = [
 ''' + mark(8)),
 ]
 
-s = p.read_text()
-revert = "--revert" in sys.argv[1:]
-for original, instrumented in EDITS:
-    old, new = (instrumented, original) if revert else (original, instrumented)
-    if s.count(old) != 1:
-        sys.exit(f"seaweed_phase_patch.py: expected text not found once in {p}; already "
-                 f"{'reverted' if revert else 'patched'}?")
-    s = s.replace(old, new)
-p.write_text(s)
+source_patch.apply(p, EDITS, "seaweed_phase_patch.py")
