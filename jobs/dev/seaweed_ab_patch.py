@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """In-process A/B instrumentation for the seaweed particle step (docs/performance-seaweed.md,
-session 16). A development tool: it edits src/models/plants/seaweed_mechanics.cpp in place and
-must be reverted (`git checkout src/models/plants/seaweed_mechanics.cpp`) before committing.
+session 16). A development tool: it edits src/models/plants/seaweed_sub_step.cpp in place and
+must be reverted (`git checkout src/models/plants/seaweed_sub_step.cpp`) before committing.
 
 What it adds:
 - a global variant flag `g_ab`, 0 or 1 on alternate physics steps (`SeaweedBodies::advance`);
-- sums of `compute_forces` (the calling thread's CPU time: it has no communication, and CPU time
+- sums of the force phases, `begin_sub_step` and `block_forces` (printed as `cf`: the calling
+  thread's CPU time: they have no communication, and CPU time
   leaves out the time another process on the core takes) and of `advance` (`steady_clock`: it
   waits in MPI, where CPU time would count the busy-polling) per variant, printed by every rank at
   exit as `AB rank R: A cf .. adv .. B cf .. adv .. B/A cf .. adv ..`. The first 4 physics steps
@@ -15,7 +16,7 @@ What it adds:
   null test of the method;
 - the environment variable AB_ONLY=0 or 1 to run that variant on every step, for instruction
   counts that do not depend on the load (valgrind --tool=callgrind
-  --toggle-collect='*SeaweedBodies::compute_forces*', once per variant).
+  --toggle-collect='*SeaweedBodies::block_forces*', once per variant).
 
 The code under test then branches on `g_ab == 1 && !g_ab_null` (take the new path) itself. Run a
 restart window, for example (2 ranks, t = 8 to 11 s of cycle 5):
@@ -34,7 +35,7 @@ import sys
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import source_patch  # noqa: E402
 
-p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_mechanics.cpp"
+p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_sub_step.cpp"
 # (original text, instrumented text)
 EDITS = [
     ('''namespace biota::models::plants {
@@ -76,14 +77,22 @@ using particles::kNoId;'''),
   const auto t_adv = std::chrono::steady_clock::now();
   struct AdvT { std::chrono::steady_clock::time_point t; ~AdvT() { if (!g_ab_counted) return; g_ab_adv[g_ab] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); ++g_ab_n[g_ab]; } } advt{t_adv};
   const int ns = p_.substeps;'''),
-    ('''    compute_forces(h);
-    // Symplectic''',
+    ('''  begin_sub_step();
+  const Real m''',
+     '''  {
+    const double t0 = thread_seconds();
+    begin_sub_step();
+    if (g_ab_counted) g_ab_cf[g_ab] += thread_seconds() - t0;
+  }
+  const Real m'''),
+    ('''    block_forces(blk, h);
+''',
      '''    {
       const double t0 = thread_seconds();
-      compute_forces(h);
+      block_forces(blk, h);
       if (g_ab_counted) g_ab_cf[g_ab] += thread_seconds() - t0;
     }
-    // Symplectic'''),
+'''),
 ]
 
 source_patch.apply(p, EDITS, "seaweed_ab_patch.py")

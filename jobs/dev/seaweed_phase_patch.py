@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Phase timers for the seaweed particle step (docs/performance-seaweed.md, session 25). A
-development tool like seaweed_ab_patch.py: it edits src/models/plants/seaweed_mechanics.cpp in
+development tool like seaweed_ab_patch.py: it edits src/models/plants/seaweed_sub_step.cpp in
 place and must be reverted (`--revert`, or `git checkout` of the file) before committing. Apply
-one of the two tools at a time: both edit the call of compute_forces.
+one of the two tools at a time: both edit the sub-step.
 
 It adds wall-clock marks between the phases of a sub-step and prints, per rank at exit, one line
 
@@ -10,8 +10,9 @@ It adds wall-clock marks between the phases of a sub-step and prints, per rank a
 
 with the seconds each phase took over the run: body forces, hot-record build, joints (gather,
 law, add-back), inner-list filter (check and re-filter), contacts (compaction, law, add-back),
-displacement check, ghost refresh (with the skin-check reduction), integration. The step's
-migrations and list rebuilds are in none of them. For example (2 ranks, t = 20 to 22 s of a
+displacement check, ghost refresh (with the skin-check reduction), integration. With blocks
+(seaweed.sub_step_block) each phase sums over the blocks. The step's migrations and list
+rebuilds are in none of them. For example (2 ranks, t = 20 to 22 s of a
 cycle-5 run):
 
   python3 jobs/dev/seaweed_phase_patch.py && cmake --build build --target biota
@@ -25,14 +26,14 @@ import sys
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import source_patch  # noqa: E402
 
-p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_mechanics.cpp"
+p = pathlib.Path(__file__).resolve().parents[2] / "src/models/plants/seaweed_sub_step.cpp"
 
 
 def mark(k):
     return f"  seaweed_phase_mark({k});  // TEMP phases\n"
 
 
-HEADER = '''#include "particles/cell_list.hpp"
+HEADER = '''#include "models/plants/seaweed_mechanics.hpp"
 // TEMP phases
 #include <chrono>
 #include <cstdio>
@@ -62,40 +63,44 @@ struct PhaseReport {
 '''
 
 # (original text, instrumented text); bucket 7 (migration and list rebuild inside the step) and
-# 9 (compute_forces as a whole, split by its own marks) are not printed.
+# 9 (the rest: breaks, loop overhead) are not printed.
 EDITS = [
-    ('#include "particles/cell_list.hpp"\n', HEADER),
-    ('''void SeaweedBodies::compute_forces(Real dt_sub) {
-''', '''void SeaweedBodies::compute_forces(Real dt_sub) {
+    ('#include "models/plants/seaweed_mechanics.hpp"\n', HEADER),
+    ('''    hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {qw[i], qx[i], qy[i], qz[i]}, {0, 0}};
+''', '''    hot_[i] = {x.at(i), v.at(i), w.at(i), rad[i], {qw[i], qx[i], qy[i], qz[i]}, {0, 0}};
+''' + mark(1)),
+    ('''  begin_sub_step();
+  const Real m''', '''  begin_sub_step();
+''' + mark(3) + '''  const Real m'''),
+    ('''              span);
+''', '''              span);
+''' + mark(0)),
+    ('''  // Contacts: each pair once per block''', mark(2) + '''  // Contacts: each pair once per block'''),
+    ('''      if (mine(b[l])) add(b[l], -f, {r.tbx[l], r.tby[l], r.tbz[l]});
+    }
+  }
+}
+''', '''      if (mine(b[l])) add(b[l], -f, {r.tbx[l], r.tby[l], r.tbz[l]});
+    }
+  }
+''' + mark(4) + '''}
+'''),
+    ('''    integrate_spheres(cols, blk.hi - blk.lo, h, h / m, h / I);
+''', '''    integrate_spheres(cols, blk.hi - blk.lo, h, h / m, h / I);
+''' + mark(8)),
+    ('''  set_.zero_real(a_imp);
+''', '''  set_.zero_real(a_imp);
   g_phase_t = std::chrono::steady_clock::now();  // TEMP phases
 '''),
-    ('''               {ix, iy, iz}},
-              no);
-''', '''               {ix, iy, iz}},
-              no);
-''' + mark(0)),
-    ('''  const Hot* hot = hot_.data();
-''', '''  const Hot* hot = hot_.data();
-''' + mark(1)),
-    ('''  if (filter_due()) {
-''', mark(2) + '''  if (filter_due()) {
-'''),
-    ('''  touch_.resize(near_.size());
-''', mark(3) + '''  touch_.resize(near_.size());
-'''),
-    ('''  // Breaks take effect after the step's forces are in''', mark(4) + '''  // Breaks take effect after the step's forces are in'''),
     ('''      int flag = local_displacement_exceeded();
       MPI_Request req;''', mark(9) + '''      int flag = local_displacement_exceeded();
 ''' + mark(5) + '''      MPI_Request req;'''),
     ('''      MPI_Wait(&req, MPI_STATUS_IGNORE);
 ''', '''      MPI_Wait(&req, MPI_STATUS_IGNORE);
 ''' + mark(6)),
-    ('''    compute_forces(h);
-''', mark(7) + '''    compute_forces(h);
-''' + mark(9)),
-    ('''    integrate_spheres(cols, set_.n_owned(), h, h / m, h / I);
-''', '''    integrate_spheres(cols, set_.n_owned(), h, h / m, h / I);
-''' + mark(8)),
+    ('''    sub_step(h);
+''', mark(7) + '''    sub_step(h);
+'''),
 ]
 
 source_patch.apply(p, EDITS, "seaweed_phase_patch.py")

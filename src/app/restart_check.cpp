@@ -71,6 +71,7 @@ const std::vector<std::string>& restart_may_change() {
       "seaweed.metrics_interval",
       "seaweed.balance.sphere_cost",
       "seaweed.balance.rank_speed",
+      "seaweed.sub_step_block",
       "flock.stats_interval",
       "tree.csv_interval",
       "wind.poisson_options",

@@ -47,6 +47,10 @@ struct MechanicsParams {
   /// how many far pairs a sub-step visits; <= 0 visits the whole neighbour list every sub-step.
   Real inner_skin = 0.002;
   int substeps = 20;
+  /// Owned spheres per block of the sub-step (0: the whole rank is one block; -1: blocks of 2048
+  /// where a rank owns more than 32768 spheres). Changes no result, only how a rank's state
+  /// passes through the caches (seaweed_sub_step.cpp).
+  std::int64_t sub_step_block = -1;
   static void declare_config(core::ConfigSchema& schema);
   static MechanicsParams from_config(const core::Config& cfg);
   Real mass() const;
@@ -122,8 +126,8 @@ class SeaweedBodies {
   using Hot = SphereHot;
   std::vector<Hot> hot_;
   std::unique_ptr<JointBlock> joint_block_ = std::make_unique<JointBlock>();  // 2.7 kB scratch
-  void compute_forces(Real dt_sub);
   void rebuild_lists();
+  void store_by_plant();  // owned spheres by (plant, id), for blocks; after a migration
   bool max_displacement_exceeded() const;    // collective
   bool local_displacement_exceeded() const;  // this rank's owned spheres only
   std::size_t find_near(GlobalId id, const Vec3& near) const;
@@ -131,7 +135,8 @@ class SeaweedBodies {
   particles::ParticleComm& comm_;
   MechanicsParams p_;
   particles::ParticleSet set_;
-  // (child, parent) local slots, in the order of the child's global id (the summation order).
+  // (child, parent) local slots by the child's global id, plant by plant where the spheres are
+  // stored so (each sphere's summation order either way, rebuild_lists).
   std::vector<std::pair<std::size_t, std::size_t>> joints_;
   std::vector<GlobalId> joint_parent_id_;  // per joint: the parent's id at the list build
   std::vector<std::size_t> broken_now_;
@@ -154,6 +159,31 @@ class SeaweedBodies {
   bool need_filter_ = true;
   long long filters_ = 0;
   bool filter_due() const;
+
+  // The sub-step, block by block of owned spheres (seaweed_sub_step.cpp).
+  /// Owned slots [lo, hi) and the joints and contacts touching them: subsequences of joints_
+  /// (with joint_parent_id_) and near_, in their order.
+  struct SphereBlock {
+    std::size_t lo, hi;
+    const std::pair<std::size_t, std::size_t>* joints;
+    const GlobalId* joint_parent_id;
+    std::size_t n_joints;
+    const ContactPair* contacts;
+    std::size_t n_contacts;
+  };
+  std::size_t block_spheres() const;  // 0: no blocks
+  std::size_t n_blocks() const;
+  SphereBlock sphere_block(std::size_t k) const;
+  void split_joints_by_block();    // after each list build
+  void split_contacts_by_block();  // after each filter
+  void sub_step(Real h);
+  void begin_sub_step();  // hot records, the inner list's filter when due
+  void block_forces(const SphereBlock& blk, Real dt_sub);
+  // The blocks' subsequences when there is more than one block (CSR by block).
+  std::vector<std::size_t> block_joint_begin_, block_contact_begin_;
+  std::vector<std::pair<std::size_t, std::size_t>> block_joints_;
+  std::vector<GlobalId> block_joint_parent_id_;
+  std::vector<ContactPair> block_contacts_;
   int n_plants_ = 0;
   long long broken_local_ = 0;
   long long skipped_joints_ = 0;  // at the last list build, owned children only

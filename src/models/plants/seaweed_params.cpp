@@ -36,6 +36,10 @@ void MechanicsParams::declare_config(core::ConfigSchema& s) {
   s.add_real("seaweed.cluster_margin", 0.001, 0.0, std::nullopt, "m", "gap counted as contact");
   s.add_real("seaweed.skin", 0.01, 0.0, std::nullopt, "m", "neighbour-list skin");
   s.add_int("seaweed.substeps", 20, 1, 10000, "mechanics sub-steps per physics step");
+  s.add_int("seaweed.sub_step_block", -1, -1, 1000000000,
+            "owned spheres per block of a mechanics sub-step (0: a rank's spheres in one block; "
+            "-1: blocks of 2048 where a rank owns more than 32768 spheres); changes no result, "
+            "only speed");
 }
 
 MechanicsParams MechanicsParams::from_config(const core::Config& c) {
@@ -59,6 +63,7 @@ MechanicsParams MechanicsParams::from_config(const core::Config& c) {
   p.cluster_margin = c.get_real("seaweed.cluster_margin");
   p.skin = c.get_real("seaweed.skin");
   p.substeps = static_cast<int>(c.get_int("seaweed.substeps"));
+  p.sub_step_block = c.get_int("seaweed.sub_step_block");
   return p;
 }
 
