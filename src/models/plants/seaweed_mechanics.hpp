@@ -171,8 +171,10 @@ class SeaweedBodies {
     const ContactPair* contacts;
     std::size_t n_contacts;
   };
-  std::size_t block_spheres() const;  // 0: no blocks
-  std::size_t n_blocks() const;
+  std::size_t block_spheres() const;    // 0: no blocks
+  std::size_t n_blocks() const;         // planned: lists split, spheres stored by plant
+  std::size_t n_blocks_in_use() const;  // the sub-step's: 1 where blocks do not pay
+  bool blocks_pay_ = true;              // set at each split of the contacts
   SphereBlock sphere_block(std::size_t k) const;
   void split_joints_by_block();    // after each list build
   void split_contacts_by_block();  // after each filter

@@ -70,8 +70,9 @@ std::size_t SeaweedBodies::block_spheres() const {
   if (p_.sub_step_block >= 0) return static_cast<std::size_t>(p_.sub_step_block);
   // Automatic: blocks pay where a rank's spheres (about 600 bytes each with their records and
   // lists) overflow its share of the last-level cache, and cost where they do not, through the
-  // contacts between blocks evaluated twice (docs/performance-seaweed.md, session 26: 0.89-0.90
-  // of the time with 45k spheres per rank, 1.13-1.15 with 17k in the cycle-5 mat).
+  // interactions between blocks evaluated twice (docs/performance-seaweed.md, session 26: 0.90-0.97
+  // of the time with 45k spheres per rank, 1.13-1.15 with 17k in the cycle-5 mat); see also
+  // blocks_pay_.
   constexpr std::size_t kBlockFrom = 32768, kBlock = 2048;
   return set_.n_owned() > kBlockFrom ? kBlock : 0;
 }
@@ -79,6 +80,10 @@ std::size_t SeaweedBodies::block_spheres() const {
 std::size_t SeaweedBodies::n_blocks() const {
   const std::size_t no = set_.n_owned(), per = block_spheres();
   return per == 0 || no <= per ? 1 : (no + per - 1) / per;
+}
+
+std::size_t SeaweedBodies::n_blocks_in_use() const {
+  return blocks_pay_ ? n_blocks() : 1;
 }
 
 void SeaweedBodies::split_joints_by_block() {
@@ -106,11 +111,16 @@ void SeaweedBodies::split_contacts_by_block() {
         return std::pair<std::size_t, std::size_t>{e.a, e.b};
       },
       block_contact_begin_, block_contacts_);
+  // Automatic blocks only while the interactions they share add at most a tenth to the work:
+  // many contacts join two plants in a dense mat, and a block is a few plants.
+  const std::size_t whole = joints_.size() + near_.size(),
+                    split = block_joints_.size() + block_contacts_.size();
+  blocks_pay_ = p_.sub_step_block >= 0 || split * 10 <= whole * 11;
 }
 
 SeaweedBodies::SphereBlock SeaweedBodies::sphere_block(std::size_t k) const {
   const std::size_t no = set_.n_owned();
-  if (n_blocks() == 1)
+  if (n_blocks_in_use() == 1)
     return {0,           no, joints_.data(), joint_parent_id_.data(), joints_.size(), near_.data(),
             near_.size()};
   const std::size_t per = block_spheres(), j0 = block_joint_begin_[k], c0 = block_contact_begin_[k];
@@ -331,7 +341,7 @@ void SeaweedBodies::sub_step(Real h) {
   begin_sub_step();
   const Real m = p_.mass(), I = p_.inertia();
   const auto col = [&](int a, int c) { return set_.real(a, c); };
-  for (std::size_t k = 0, nb = n_blocks(); k < nb; ++k) {
+  for (std::size_t k = 0, nb = n_blocks_in_use(); k < nb; ++k) {
     const SphereBlock blk = sphere_block(k);
     block_forces(blk, h);
     // Symplectic Euler: velocities first, then positions with the new velocities.
