@@ -122,7 +122,7 @@ class SeaweedBodies {
   int u_plant, u_parent;
 
  private:
-  /// What the contacts and the joints' parents read of a sphere, in one record (compute_forces).
+  /// What the contacts and the joints' parents read of a sphere, in one record (begin_sub_step).
   using Hot = SphereHot;
   std::vector<Hot> hot_;
   std::unique_ptr<JointBlock> joint_block_ = std::make_unique<JointBlock>();  // 2.7 kB scratch

@@ -3,7 +3,7 @@
 - every instantiation of the production LBM sweep (`aa_stream_collide`): at least two prefetches
   per population stream (30 for D3Q15, 38 for D3Q19); the sweep is 1.3-1.5x faster with them
   (docs/lbm.md);
-- the seaweed joint gather in `SeaweedBodies::compute_forces`: at least three (the child columns'
+- the seaweed joint gather in `SeaweedBodies::block_forces`: at least three (the child columns'
   loop and the parent record's two lines); the particle step is 0.82-0.88x with them
   (docs/performance-seaweed.md, session 24).
 GCC drops a prefetch silently when it sits in a function that does nothing else, so a refactor
@@ -28,7 +28,7 @@ def is_lbm_sweep(name):
 
 
 def is_joint_gather(name):
-    return name.startswith("biota::models::plants::SeaweedBodies::compute_forces(")
+    return name.startswith("biota::models::plants::SeaweedBodies::block_forces(")
 
 
 counts = {}
@@ -52,7 +52,7 @@ for name, n in sorted(sweeps.items()):
     if n < need:
         failures.append(f"{n} prefetch instructions (< {need}) in {name}")
 if len(gathers) != 1:
-    failures.append(f"{len(gathers)} SeaweedBodies::compute_forces found (expected 1)")
+    failures.append(f"{len(gathers)} SeaweedBodies::block_forces found (expected 1)")
 for name, n in gathers.items():
     if n < 3:
         failures.append(f"{n} prefetch instructions (< 3) in {name}")
