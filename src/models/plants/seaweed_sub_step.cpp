@@ -237,8 +237,15 @@ void SeaweedBodies::block_forces(const SphereBlock& blk, Real dt_sub) {
   // Lanes are filled one input at a time by gather_lane (one vector gather and store, so the
   // law's vector loads find whole stores). A parent's inputs come from its record: `hot_reals`
   // is the offset of the record of slot pj[l], and the field's offset in it is added to the
-  // base.
-  const auto gather_parents = [&](const std::size_t* hot_reals) {
+  // base. Where a block's children are consecutive slots (joints are listed in child order; 86%
+  // of the blocks at t = 8 s) a child input is one 64-byte copy from its column.
+  const auto gather = [&](auto ci, const std::size_t* hot_reals) {
+    for (const auto& [dst, src] : child_inputs) {
+      if constexpr (std::is_integral_v<decltype(ci)>)  // lanes ci, ci + 1, ...
+        std::memcpy(dst, src + ci, sizeof(JointBlock::Lane));
+      else
+        gather_lane(dst, src, ci);
+    }
     const auto parent = [&](Real* dst, const Real& field) {
       gather_lane(dst, &field, hot_reals);  // field: a member of hot[0]
     };
@@ -274,15 +281,12 @@ void SeaweedBodies::block_forces(const SphereBlock& blk, Real dt_sub) {
       __builtin_prefetch(hot + p, 0, 3);
       __builtin_prefetch(reinterpret_cast<const char*>(hot + p) + 64, 0, 3);
     }
-    // Where a block's children are consecutive slots (joints are listed in child order; 86% of
-    // the blocks at t = 8 s) a child input is one 64-byte copy from its column. A child is never
-    // in an earlier block, whose columns hold the sub-step's end state (see the file comment).
-    if (runs) {
-      for (const auto& [dst, src] : child_inputs) std::memcpy(dst, src + ci[0], sizeof(jb.fm));
-    } else {
-      for (const auto& [dst, src] : child_inputs) gather_lane(dst, src, ci);
-    }
-    gather_parents(pj_reals);
+    // A child is never in an earlier block, whose columns hold the sub-step's end state (see
+    // the file comment).
+    if (runs)
+      gather(ci[0], pj_reals);
+    else
+      gather(+ci, pj_reals);
     evaluate_joint_block(jb, p_.joint_k, p_.joint_c, p_.bend_k, p_.bend_c);
     for (int l = 0; l < lanes; ++l) {
       const std::size_t m = m0 + l;
