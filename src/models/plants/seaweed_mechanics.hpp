@@ -48,8 +48,9 @@ struct MechanicsParams {
   Real inner_skin = 0.002;
   int substeps = 20;
   /// Owned spheres per block of the sub-step (0: the whole rank is one block; -1: blocks of 2048
-  /// where a rank owns more than 32768 spheres). Changes no result, only how a rank's state
-  /// passes through the caches (seaweed_sub_step.cpp).
+  /// where a rank owns more than 32768 spheres and the interactions shared between blocks add at
+  /// most a tenth). Changes no result, only how a rank's state passes through the caches
+  /// (seaweed_sub_step.cpp).
   std::int64_t sub_step_block = -1;
   static void declare_config(core::ConfigSchema& schema);
   static MechanicsParams from_config(const core::Config& cfg);

@@ -38,8 +38,8 @@ void MechanicsParams::declare_config(core::ConfigSchema& s) {
   s.add_int("seaweed.substeps", 20, 1, 10000, "mechanics sub-steps per physics step");
   s.add_int("seaweed.sub_step_block", -1, -1, 1000000000,
             "owned spheres per block of a mechanics sub-step (0: a rank's spheres in one block; "
-            "-1: blocks of 2048 where a rank owns more than 32768 spheres); changes no result, "
-            "only speed");
+            "-1: blocks of 2048 where a rank owns more than 32768 spheres and the interactions "
+            "shared between blocks add at most a tenth); changes no result, only speed");
 }
 
 MechanicsParams MechanicsParams::from_config(const core::Config& c) {
