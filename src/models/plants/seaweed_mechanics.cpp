@@ -147,10 +147,10 @@ void SeaweedBodies::store_by_plant() {
   // Ids alone interleave the plants: every growth cycle numbers its new spheres after all older
   // ones, so a branch's first joint has its parent thousands of slots away in id order, very
   // likely in another block of the sub-step (seaweed_sub_step.cpp), which must then evaluate it
-  // too: 21% more joint evaluations with blocks of 2048 in the 10x weak-scaling case. Stored plant
-  // by plant (by id within a plant), a plant's spheres are together (0.7% more), and the joints
-  // are walked in that order (rebuild_lists). The storage order changes no result: every sum
-  // follows global ids.
+  // too: 20-21% more joint evaluations with blocks of 1024-4096 in the 10x weak-scaling case.
+  // Stored plant by plant (by id within a plant), a plant's spheres are together (0.7% more), and
+  // the joints are walked in that order (rebuild_lists). The storage order changes no result: every
+  // sum follows global ids.
   const std::size_t no = set_.n_owned();
   const std::uint64_t* plant = set_.u64(u_plant);
   const GlobalId* ids = set_.u64(ParticleSet::kId);

@@ -44,25 +44,26 @@ Col3 cols3(const ParticleSet& s, int a) {
   return {s.real(a, 0), s.real(a, 1), s.real(a, 2)};
 }
 
-/// CSR of the blocks' subsequences of `list`: entry e goes to the block of each of its owned
-/// spheres (once if both are in one block), in list order. `spheres(e)` gives its two slots.
-template <class T, class Spheres>
-void split_by_block(const std::vector<T>& list, std::size_t n_owned, std::size_t block,
-                    std::size_t n_blocks, Spheres spheres, std::vector<std::size_t>& begin,
-                    std::vector<T>& out) {
+/// The blocks' subsequences of a list of n interactions, as a CSR of positions in the list:
+/// interaction k goes to the block of each of its owned spheres (once if both are in one block),
+/// in list order. `spheres(k)` gives its two slots.
+template <class Spheres>
+void split_by_block(std::size_t n, std::size_t n_owned, std::size_t block, std::size_t n_blocks,
+                    Spheres spheres, std::vector<std::size_t>& begin,
+                    std::vector<std::size_t>& at) {
   begin.assign(n_blocks + 1, 0);
-  const auto blocks_of = [&](const T& e, auto&& visit) {
-    const auto [s0, s1] = spheres(e);
+  const auto blocks_of = [&](std::size_t k, auto&& visit) {
+    const auto [s0, s1] = spheres(k);
     const std::size_t b0 = s0 < n_owned ? s0 / block : n_blocks;
     const std::size_t b1 = s1 < n_owned ? s1 / block : n_blocks;
     if (b0 < n_blocks) visit(b0);
     if (b1 < n_blocks && b1 != b0) visit(b1);
   };
-  for (const T& e : list) blocks_of(e, [&](std::size_t b) { ++begin[b + 1]; });
+  for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { ++begin[b + 1]; });
   for (std::size_t b = 0; b < n_blocks; ++b) begin[b + 1] += begin[b];
-  out.resize(begin[n_blocks]);
+  at.resize(begin[n_blocks]);
   std::vector<std::size_t> fill(begin.begin(), begin.end() - 1);
-  for (const T& e : list) blocks_of(e, [&](std::size_t b) { out[fill[b]++] = e; });
+  for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { at[fill[b]++] = k; });
 }
 }  // namespace
 
@@ -88,29 +89,27 @@ std::size_t SeaweedBodies::n_blocks_in_use() const {
 
 void SeaweedBodies::split_joints_by_block() {
   if (n_blocks() == 1) return;
-  struct Joint {
-    std::pair<std::size_t, std::size_t> slots;
-    GlobalId parent_id;
-  };
-  std::vector<Joint> joints(joints_.size()), split;
-  for (std::size_t m = 0; m < joints_.size(); ++m) joints[m] = {joints_[m], joint_parent_id_[m]};
+  std::vector<std::size_t> at;
   split_by_block(
-      joints, set_.n_owned(), block_spheres(), n_blocks(), [](const Joint& j) { return j.slots; },
-      block_joint_begin_, split);
-  block_joints_.resize(split.size());
-  block_joint_parent_id_.resize(split.size());
-  for (std::size_t k = 0; k < split.size(); ++k)
-    block_joints_[k] = split[k].slots, block_joint_parent_id_[k] = split[k].parent_id;
+      joints_.size(), set_.n_owned(), block_spheres(), n_blocks(),
+      [&](std::size_t m) { return joints_[m]; }, block_joint_begin_, at);
+  block_joints_.resize(at.size());
+  block_joint_parent_id_.resize(at.size());
+  for (std::size_t k = 0; k < at.size(); ++k)
+    block_joints_[k] = joints_[at[k]], block_joint_parent_id_[k] = joint_parent_id_[at[k]];
 }
 
 void SeaweedBodies::split_contacts_by_block() {
   if (n_blocks() == 1) return;
+  std::vector<std::size_t> at;
   split_by_block(
-      near_, set_.n_owned(), block_spheres(), n_blocks(),
-      [](const ContactPair& e) {
-        return std::pair<std::size_t, std::size_t>{e.a, e.b};
+      near_.size(), set_.n_owned(), block_spheres(), n_blocks(),
+      [&](std::size_t k) {
+        return std::pair<std::size_t, std::size_t>{near_[k].a, near_[k].b};
       },
-      block_contact_begin_, block_contacts_);
+      block_contact_begin_, at);
+  block_contacts_.resize(at.size());
+  for (std::size_t k = 0; k < at.size(); ++k) block_contacts_[k] = near_[at[k]];
   // Automatic blocks only while the interactions they share add at most a tenth to the work:
   // many contacts join two plants in a dense mat, and a block is a few plants.
   const std::size_t whole = joints_.size() + near_.size(),
