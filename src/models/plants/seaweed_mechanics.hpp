@@ -155,8 +155,9 @@ class SeaweedBodies {
   // Inner list: the pairs of contact_pairs_ that can still touch (closer than the radii plus
   // inner_skin at the last filter), in the same order.
   std::vector<ContactPair> near_;
-  std::vector<std::uint32_t> touch_;  // scratch: positions in near_ of the touching contacts
-  std::vector<Vec3> x_filter_;        // owned and ghost positions at the last filter
+  std::vector<ContactPair> filter_out_;  // the filter's scratch: every pair written, kept counted
+  std::vector<std::uint32_t> touch_;     // scratch: positions in near_ of the touching contacts
+  std::vector<Vec3> x_filter_;           // owned and ghost positions at the last filter
   bool need_filter_ = true;
   long long filters_ = 0;
   bool filter_due() const;
