@@ -20,13 +20,16 @@ trap 'stop_server; rm -rf "$tmp"' EXIT INT TERM
 # Accepting connections is checked with a real client (XOpenDisplay through ctypes) before the
 # command runs; server start-up is serialised by a lock so concurrent renders cannot race for a
 # display number (seen: two servers reporting displays of which one refused connections).
+# -noreset: an X server resets when its last client disconnects, and the probe is that client.
+# A render that connected during the reset got "bad X server connection" in 1 of 12 renders,
+# all three runs of one render alike; with -noreset, 0 of 40 (docs/decisions.md).
 x_accepts() {
   python3 -c "import ctypes,sys; x=ctypes.cdll.LoadLibrary('libX11.so.6'); x.XOpenDisplay.restype=ctypes.c_void_p; d=x.XOpenDisplay(sys.argv[1].encode()); sys.exit(0 if d else 1)" ":$1" 2>/dev/null
 }
 start_server() {
   for attempt in 1 2 3; do
     : >"$tmp/display"
-    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
+    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset 3>"$tmp/display" 2>"$tmp/xvfb.log" &
     xpid=$!
     waited=0
     while [ ! -s "$tmp/display" ] && kill -0 "$xpid" 2>/dev/null && [ $waited -lt 200 ]; do
