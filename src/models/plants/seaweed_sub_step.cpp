@@ -46,11 +46,12 @@ Col3 cols3(const ParticleSet& s, int a) {
 
 /// The blocks' subsequences of a list of n interactions, as a CSR of positions in the list:
 /// interaction k goes to the block of each of its owned spheres (once if both are in one block),
-/// in list order. `spheres(k)` gives its two slots.
-template <class Spheres>
+/// in list order. `spheres(k)` gives its two slots. The offsets `begin` are always counted; the
+/// positions `at` are filled only when `wanted(total)` for the total the offsets give.
+template <class Spheres, class Wanted>
 void split_by_block(std::size_t n, std::size_t n_owned, std::size_t block, std::size_t n_blocks,
-                    Spheres spheres, std::vector<std::size_t>& begin,
-                    std::vector<std::size_t>& at) {
+                    Spheres spheres, std::vector<std::size_t>& begin, std::vector<std::size_t>& at,
+                    Wanted wanted) {
   begin.assign(n_blocks + 1, 0);
   const auto blocks_of = [&](std::size_t k, auto&& visit) {
     const auto [s0, s1] = spheres(k);
@@ -61,6 +62,7 @@ void split_by_block(std::size_t n, std::size_t n_owned, std::size_t block, std::
   };
   for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { ++begin[b + 1]; });
   for (std::size_t b = 0; b < n_blocks; ++b) begin[b + 1] += begin[b];
+  if (!wanted(begin[n_blocks])) return;
   at.resize(begin[n_blocks]);
   std::vector<std::size_t> fill(begin.begin(), begin.end() - 1);
   for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { at[fill[b]++] = k; });
@@ -92,7 +94,8 @@ void SeaweedBodies::split_joints_by_block() {
   std::vector<std::size_t> at;
   split_by_block(
       joints_.size(), set_.n_owned(), block_spheres(), n_blocks(),
-      [&](std::size_t m) { return joints_[m]; }, block_joint_begin_, at);
+      [&](std::size_t m) { return joints_[m]; }, block_joint_begin_, at,
+      [](std::size_t) { return true; });
   block_joints_.resize(at.size());
   block_joint_parent_id_.resize(at.size());
   for (std::size_t k = 0; k < at.size(); ++k)
@@ -107,14 +110,19 @@ void SeaweedBodies::split_contacts_by_block() {
       [&](std::size_t k) {
         return std::pair<std::size_t, std::size_t>{near_[k].a, near_[k].b};
       },
-      block_contact_begin_, at);
+      block_contact_begin_, at,
+      [&](std::size_t n_split) {
+        // Automatic blocks only while the interactions they share add at most a tenth to the
+        // work: many contacts join two plants in a dense mat, and a block is a few plants. Where
+        // they do not pay, the contacts are not copied out (the offsets tell).
+        const std::size_t whole = joints_.size() + near_.size(),
+                          split = block_joints_.size() + n_split;
+        blocks_pay_ = p_.sub_step_block >= 0 || split * 10 <= whole * 11;
+        return blocks_pay_;
+      });
+  if (!blocks_pay_) return;
   block_contacts_.resize(at.size());
   for (std::size_t k = 0; k < at.size(); ++k) block_contacts_[k] = near_[at[k]];
-  // Automatic blocks only while the interactions they share add at most a tenth to the work:
-  // many contacts join two plants in a dense mat, and a block is a few plants.
-  const std::size_t whole = joints_.size() + near_.size(),
-                    split = block_joints_.size() + block_contacts_.size();
-  blocks_pay_ = p_.sub_step_block >= 0 || split * 10 <= whole * 11;
 }
 
 SeaweedBodies::SphereBlock SeaweedBodies::sphere_block(std::size_t k) const {
