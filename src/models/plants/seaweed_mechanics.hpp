@@ -152,6 +152,10 @@ class SeaweedBodies {
     std::uint32_t a, b;
   };
   std::vector<ContactPair> contact_pairs_;
+  // The list build's scratch, kept between builds: the pairs as found (lower id first), sorted
+  // halfway, and each sphere's place in id order with the counting sorts' bucket starts.
+  std::vector<ContactPair> pairs_, pair_scratch_;
+  std::vector<std::uint32_t> place_, place_start_;
   // Inner list: the pairs of contact_pairs_ that can still touch (closer than the radii plus
   // inner_skin at the last filter), in the same order.
   std::vector<ContactPair> near_;
