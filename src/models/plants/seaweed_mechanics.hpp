@@ -131,7 +131,9 @@ class SeaweedBodies {
   void store_by_plant();  // owned spheres by (plant, id), for blocks; after a migration
   bool max_displacement_exceeded() const;    // collective
   bool local_displacement_exceeded() const;  // this rank's owned spheres only
-  std::size_t find_near(GlobalId id, const Vec3& near) const;
+  // The slot of `id` nearest to `near`; `guess`: a place in slots_ tried as the first of `id`
+  // before a binary search.
+  std::size_t find_near(GlobalId id, const Vec3& near, std::size_t guess) const;
 
   particles::ParticleComm& comm_;
   MechanicsParams p_;
