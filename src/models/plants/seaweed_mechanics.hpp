@@ -131,8 +131,8 @@ class SeaweedBodies {
   void store_by_plant();  // owned spheres by (plant, id), for blocks; after a migration
   bool max_displacement_exceeded() const;    // collective
   bool local_displacement_exceeded() const;  // this rank's owned spheres only
-  // The slot of `id` nearest to `near`; `guess`: a place in slots_ tried as the first of `id`
-  // before a binary search.
+  // The slot of `id` nearest to `near` (SIZE_MAX if none); `guess`: a place in slots_ tried as
+  // the first entry of `id` before a binary search (any value, also out of range).
   std::size_t find_near(GlobalId id, const Vec3& near, std::size_t guess) const;
 
   particles::ParticleComm& comm_;
@@ -154,8 +154,9 @@ class SeaweedBodies {
     std::uint32_t a, b;
   };
   std::vector<ContactPair> contact_pairs_;
-  // The list build's scratch, kept between builds: the pairs as found (lower id first), sorted
-  // halfway, and each sphere's place in id order with the counting sorts' bucket starts.
+  // The list build's scratch, kept between builds: the pairs as found (lower id first) and sorted
+  // halfway; each slot's place in slots_ (the counting sorts' key, the parent lookup's first
+  // guess) and the counting sorts' bucket starts.
   std::vector<ContactPair> pairs_, pair_scratch_;
   std::vector<std::uint32_t> place_, place_start_;
   // Inner list: the pairs of contact_pairs_ that can still touch (closer than the radii plus
