@@ -218,6 +218,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     phase("output", [&] { scenario->write_output(); });
     out_io.add(MPI_Wtime() - t0, root ? bytes_written_since(out_dir, since) : 0);
   };
+  long long checkpointed_step = -1;  // the step of last_checkpoint when this run wrote it
   auto checkpoint = [&](const char* why) {
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
     const double t0 = MPI_Wtime();
@@ -226,6 +227,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
     ckpt_io.add(MPI_Wtime() - t0,
                 root ? static_cast<long long>(std::filesystem::file_size(path, ec)) : 0);
     last_checkpoint = path;
+    checkpointed_step = scenario->step_index();
     agreement.set_note("last good checkpoint: " + last_checkpoint);
     if (root) fmt::print("checkpoint ({}) written: {}\n", why, path);
   };
@@ -288,8 +290,19 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
       if (core::fault_injected("late_signal", rank, s)) g_signal.store(SIGTERM);
       if (any_signal) {
         stop_signal = any_signal;
-        if (root) fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
-        checkpoint("signal");
+        if (checkpointed_step == scenario->step_index()) {
+          // The interval checkpoint of this step is written: stop now. Writing it again would
+          // only add time before a launcher's kill (mpirun SIGKILLs 1 s after SIGTERM).
+          if (root)
+            fmt::print(
+                "received signal {}: stopping\ncheckpoint (signal) written: {} (by the "
+                "interval, at this step)\n",
+                any_signal, last_checkpoint);
+        } else {
+          if (root)
+            fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
+          checkpoint("signal");
+        }
         break;
       }
     }

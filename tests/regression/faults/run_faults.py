@@ -5,7 +5,8 @@
 2. a restart refuses a changed deck, another scenario, a truncated or non-HDF5 file and a newer
    format, each with one line; `--restart latest` skips .tmp and incomplete files;
 3. SIGTERM at a random step (seeded, printed) on 2 and 3 ranks writes a checkpoint, exits 0, and
-   the restart continues bitwise to the uninterrupted result.
+   the restart continues bitwise to the uninterrupted result;
+4. SIGTERM at a step whose interval checkpoint is just written stops without writing it again.
 Hangs are caught by the subprocess timeout (and the CTest timeout).
 Usage: run_faults.py <biota> <mpiexec> <source dir> <h5_tool>"""
 import glob
@@ -175,6 +176,24 @@ with tempfile.TemporaryDirectory() as tmp:
                                "/fields/lbm_populations"], capture_output=True, text=True)
         expect(p.returncode == 0 and same.returncode == 0,
                f"restart on {np_} ranks continues bitwise: {same.stdout.strip()}")
+
+    # --- 4. SIGTERM at a step that writes an interval checkpoint: that file stands, no second write.
+    args = small("sigck", ["--set", f"run.steps={N}", "--set", "checkpoint.interval=10"])
+    p = run(2, TANK, args, "sigterm@0@20")
+    ck = f"{tmp}/sigck/ck/tank_00000020.h5"
+    writes = [l for l in p.stdout.splitlines() if l.startswith("checkpoint (")]
+    expect(p.returncode == 0 and os.path.exists(ck) and len(writes) == 3
+           and writes[1].startswith("checkpoint (interval) written") and ck in writes[1]
+           and writes[2].startswith("checkpoint (signal) written") and ck in writes[2]
+           and "writing a checkpoint" not in p.stdout
+           and not glob.glob(f"{tmp}/sigck/ck/tank_0000003*.h5"),
+           f"SIGTERM at an interval checkpoint's step: step 20 written once, exit 0 ({writes})")
+    p = run(2, TANK, args + ["--restart", "latest"])
+    same = subprocess.run([H5TOOL, "same", f"{tmp}/ref/ck/tank_{N:08d}.h5",
+                           f"{tmp}/sigck/ck/tank_{N:08d}.h5", "/fields/lbm_populations"],
+                          capture_output=True, text=True)
+    expect(p.returncode == 0 and same.returncode == 0,
+           f"restart from it continues bitwise: {same.stdout.strip()}")
 
 print(f"{len(failures)} failures")
 sys.exit(1 if failures else 0)
