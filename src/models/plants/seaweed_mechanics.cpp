@@ -121,12 +121,19 @@ void SeaweedBodies::begin_step() {
 }
 
 bool SeaweedBodies::local_displacement_exceeded() const {
-  Real m2 = 0;
-  for (std::size_t i = 0; i < set_.n_owned() && i < x_build_.size(); ++i) {
-    const Vec3 d = set_.pos(i) - x_build_[i];
-    m2 = std::max(m2, core::dot(d, d));
+  // Every sub-step, over every owned sphere: the columns read directly and the test ORed without
+  // a branch, so the loop vectorises (0.55-0.67 of the time of a max over Vec3s, session 28).
+  const std::size_t n = std::min(set_.n_owned(), x_build_.size());
+  const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
+             *pz = set_.real(ParticleSet::kPos, 2);
+  const Vec3* xb = x_build_.data();
+  const Real lim2 = 0.25 * p_.skin * p_.skin;
+  int moved = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Real dx = px[i] - xb[i].x, dy = py[i] - xb[i].y, dz = pz[i] - xb[i].z;
+    moved |= dx * dx + dy * dy + dz * dz > lim2;
   }
-  return m2 > 0.25 * p_.skin * p_.skin;
+  return moved != 0;
 }
 
 bool SeaweedBodies::filter_due() const {
@@ -140,10 +147,18 @@ bool SeaweedBodies::filter_due() const {
   const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
              *pz = set_.real(ParticleSet::kPos, 2);
   const Real lim = 0.5 * p_.inner_skin * (1 - 1e-6), lim2 = lim * lim;
-  for (std::size_t k = 0; k < nt; ++k) {
-    const Real dx = px[k] - x_filter_[k].x, dy = py[k] - x_filter_[k].y,
-               dz = pz[k] - x_filter_[k].z;
-    if (dx * dx + dy * dy + dz * dz >= lim2) return true;
+  // Chunks tested without a branch (vector lanes), an exit after each: 0.72 of the time of a
+  // branch per sphere (session 28).
+  const Vec3* xf = x_filter_.data();
+  constexpr std::size_t kChunk = 512;
+  for (std::size_t k0 = 0; k0 < nt; k0 += kChunk) {
+    const std::size_t k1 = std::min(nt, k0 + kChunk);
+    int moved = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const Real dx = px[k] - xf[k].x, dy = py[k] - xf[k].y, dz = pz[k] - xf[k].z;
+      moved |= dx * dx + dy * dy + dz * dz >= lim2;
+    }
+    if (moved != 0) return true;
   }
   return false;
 }
