@@ -220,6 +220,13 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   };
   long long checkpointed_step = -1;  // the step of last_checkpoint when this run wrote it
   auto checkpoint = [&](const char* why) {
+    if (checkpointed_step == scenario->step_index()) {
+      // This step's checkpoint is written already (an interval one, then a signal): writing it
+      // again would only add time before a launcher's kill (mpirun SIGKILLs 1 s after SIGTERM).
+      if (root)
+        fmt::print("checkpoint ({}) written: {} (at this step already)\n", why, last_checkpoint);
+      return;
+    }
     const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
     const double t0 = MPI_Wtime();
     phase("checkpoint", [&] { scenario->write_checkpoint(path); });
@@ -290,19 +297,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
       if (core::fault_injected("late_signal", rank, s)) g_signal.store(SIGTERM);
       if (any_signal) {
         stop_signal = any_signal;
-        if (checkpointed_step == scenario->step_index()) {
-          // The interval checkpoint of this step is written: stop now. Writing it again would
-          // only add time before a launcher's kill (mpirun SIGKILLs 1 s after SIGTERM).
-          if (root)
-            fmt::print(
-                "received signal {}: stopping\ncheckpoint (signal) written: {} (by the "
-                "interval, at this step)\n",
-                any_signal, last_checkpoint);
-        } else {
-          if (root)
-            fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
-          checkpoint("signal");
-        }
+        if (root) fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
+        checkpoint("signal");
         break;
       }
     }

@@ -38,6 +38,27 @@ void counting_sort(const std::vector<Pair>& in, std::vector<Pair>& out, std::siz
   for (const Pair& e : in) out[start[key(e)]++] = e;
 }
 
+/// \brief True if beyond(d2) for the squared displacement d2 of any of the first n spheres of
+/// `set` from its reference position ref[i]. Run every sub-step (the skin and inner-list checks):
+/// chunks are tested without a branch, in vector lanes, with an exit after each (0.55-0.72 of
+/// the time of a branch or a max per sphere, docs/performance-seaweed.md, session 28).
+template <class Beyond>
+bool any_moved(const ParticleSet& set, const Vec3* ref, std::size_t n, Beyond beyond) {
+  const Real *px = set.real(ParticleSet::kPos, 0), *py = set.real(ParticleSet::kPos, 1),
+             *pz = set.real(ParticleSet::kPos, 2);
+  constexpr std::size_t kChunk = 512;
+  for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
+    const std::size_t k1 = std::min(n, k0 + kChunk);
+    int moved = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const Real dx = px[k] - ref[k].x, dy = py[k] - ref[k].y, dz = pz[k] - ref[k].z;
+      moved |= beyond(dx * dx + dy * dy + dz * dz) ? 1 : 0;
+    }
+    if (moved != 0) return true;
+  }
+  return false;
+}
+
 void set_q(ParticleSet& s, int a, std::size_t i, const core::Quat& q) {
   s.real(a, 0)[i] = q.w, s.real(a, 1)[i] = q.x, s.real(a, 2)[i] = q.y, s.real(a, 3)[i] = q.z;
 }
@@ -121,19 +142,9 @@ void SeaweedBodies::begin_step() {
 }
 
 bool SeaweedBodies::local_displacement_exceeded() const {
-  // Every sub-step, over every owned sphere: the columns read directly and the test ORed without
-  // a branch, so the loop vectorises (0.55-0.67 of the time of a max over Vec3s, session 28).
-  const std::size_t n = std::min(set_.n_owned(), x_build_.size());
-  const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
-             *pz = set_.real(ParticleSet::kPos, 2);
-  const Vec3* xb = x_build_.data();
   const Real lim2 = 0.25 * p_.skin * p_.skin;
-  int moved = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Real dx = px[i] - xb[i].x, dy = py[i] - xb[i].y, dz = pz[i] - xb[i].z;
-    moved |= dx * dx + dy * dy + dz * dz > lim2;
-  }
-  return moved != 0;
+  return any_moved(set_, x_build_.data(), std::min(set_.n_owned(), x_build_.size()),
+                   [lim2](Real d2) { return d2 > lim2; });
 }
 
 bool SeaweedBodies::filter_due() const {
@@ -143,24 +154,8 @@ bool SeaweedBodies::filter_due() const {
   // (1 - 1e-6) keeps that margin ~1e-9 m, far above round-off. Rank-local: the filter changes no
   // result, so ranks need not agree on when they filter.
   if (need_filter_ || p_.inner_skin <= 0) return true;
-  const std::size_t nt = set_.n_total();
-  const Real *px = set_.real(ParticleSet::kPos, 0), *py = set_.real(ParticleSet::kPos, 1),
-             *pz = set_.real(ParticleSet::kPos, 2);
   const Real lim = 0.5 * p_.inner_skin * (1 - 1e-6), lim2 = lim * lim;
-  // Chunks tested without a branch (vector lanes), an exit after each: 0.72 of the time of a
-  // branch per sphere (session 28).
-  const Vec3* xf = x_filter_.data();
-  constexpr std::size_t kChunk = 512;
-  for (std::size_t k0 = 0; k0 < nt; k0 += kChunk) {
-    const std::size_t k1 = std::min(nt, k0 + kChunk);
-    int moved = 0;
-    for (std::size_t k = k0; k < k1; ++k) {
-      const Real dx = px[k] - xf[k].x, dy = py[k] - xf[k].y, dz = pz[k] - xf[k].z;
-      moved |= dx * dx + dy * dy + dz * dz >= lim2;
-    }
-    if (moved != 0) return true;
-  }
-  return false;
+  return any_moved(set_, x_filter_.data(), set_.n_total(), [lim2](Real d2) { return d2 >= lim2; });
 }
 
 bool SeaweedBodies::max_displacement_exceeded() const {
