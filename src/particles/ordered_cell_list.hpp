@@ -137,6 +137,23 @@ class OrderedCellList {
       }
   }
 
+  /// \brief Call f(b) once for every bin b, slab by slab: the bins of rows [y0, y0 + rows) in
+  /// every z plane (x fastest), then the next rows. A bin's neighbours lie in the (2m+1)^2 rows
+  /// around it; sweeping z inside a slab of few rows keeps those rows in cache until the next
+  /// plane reuses them, where the flat order (whole planes) would evict them on large grids.
+  template <class F>
+  void for_each_bin_in_slabs(long long rows, F&& f) const {
+    if (n_ == 0) return;
+    rows = std::max(rows, 1LL);
+    for (long long y0 = 0; y0 < nb_[1]; y0 += rows)
+      for (long long bz = 0; bz < nb_[2]; ++bz)
+        for (long long by = y0; by < std::min(y0 + rows, nb_[1]); ++by)
+          for (long long bx = 0; bx < nb_[0]; ++bx) f(static_cast<std::size_t>(flat(bx, by, bz)));
+  }
+
+  /// \brief Bins along axis d of the last build().
+  long long bins_along(int d) const { return nb_[d]; }
+
   /// \brief Points binned by the last build().
   std::size_t size() const { return n_; }
   /// \brief One past the last slot of the bin that holds slot k (a bin's slots are contiguous).

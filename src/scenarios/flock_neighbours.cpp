@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include <unistd.h>
+
 namespace biota::scenarios {
 
 namespace mf = models::flock;
@@ -117,6 +119,20 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
 }
 
 }  // namespace
+
+long long slab_rows(const particles::OrderedCellList& cells, int reach) {
+  static const double l2_bytes = [] {
+    const long v = sysconf(_SC_LEVEL2_CACHE_SIZE);
+    return v > 0 ? double(v) : 512.0 * 1024;  // not reported (some VMs, other libcs)
+  }();
+  constexpr double kBytesPerPoint = 7 * 8;  // x, y, z, vx, vy, vz, eligibility
+  const double points_per_bin =
+      double(cells.size()) / double(std::max<std::size_t>(cells.bins(), 1));
+  const double row_bytes =
+      double(2 * reach + 1) * double(cells.bins_along(0)) * points_per_bin * kBytesPerPoint;
+  const double rows = 0.5 * l2_bytes / std::max(row_bytes, 1.0) - 2.0 * reach;
+  return std::clamp(static_cast<long long>(rows), 1LL, std::max(cells.bins_along(1), 1LL));
+}
 
 void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t first,
                            std::size_t last, const double* vx, const double* vy, const double* vz,

@@ -19,6 +19,11 @@
 
 namespace biota::scenarios {
 
+/// \brief Rows of bins per slab for OrderedCellList::for_each_bin_in_slabs(), so that the rows
+/// a slab's gathers read ((2m+1) planes of rows + 2m rows, m = reach, 56 bytes per point) take
+/// about half of this core's L2. On small grids that is every row: the flat order.
+long long slab_rows(const particles::OrderedCellList& cells, int reach);
+
 /// \brief See file comment.
 class BinNeighbours {
  public:

@@ -404,7 +404,9 @@ void FlockScenario::step() {
     // candidates bin_ holds.
     std::size_t gathered_end = 0;
     const double* dstar_of = set_->real(a_dstar_);
-    for (std::size_t b = 0, nbins = cells_.bins(); b < nbins; ++b) {
+    // Bins in slabs of rows sized to the L2 (flock_neighbours.hpp). The visiting order changes no
+    // result: a boid's sums depend only on its own candidates, in their fixed order.
+    cells_.for_each_bin_in_slabs(slab_rows(cells_, bin_reach_), [&](std::size_t b) {
       const std::size_t bin_first = cells_.bin_begin(b), bin_last = cells_.bin_begin(b + 1);
       for (std::size_t k = bin_first; k < bin_last; ++k) {
         const std::size_t i = cells_.index(k);
@@ -478,7 +480,7 @@ void FlockScenario::step() {
         const double turn = noise_heading_ != 0 ? heading_angle(id) : 0.0;
         acc[i] = mf::rotate_z(mf::prioritized_sum(rules, amax), turn);
       }
-    }
+    });
     if (track_cost) work_since_balance_ += work;
     // Column pointers hoisted: the stores below would otherwise make the compiler reload them
     // through set_ for every boid.

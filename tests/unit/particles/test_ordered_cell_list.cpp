@@ -88,6 +88,43 @@ TEST(OrderedCellList, RefusesNonFiniteAndFarStrayPoints) {
   EXPECT_EQ(cl.size(), 3u);
 }
 
+TEST(OrderedCellList, SlabsVisitEveryBinOnceInPlaneOrderWithinEachSlab) {
+  const std::size_t n = 300;
+  std::vector<double> x(n), y(n), z(n);
+  std::vector<GlobalId> id(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Rng r(3, i, 0, RngPurpose::kTest);
+    x[i] = r.uniform(0, 5), y[i] = r.uniform(0, 7), z[i] = r.uniform(0, 3);
+    id[i] = i;
+  }
+  OrderedCellList cl;
+  cl.build(x.data(), y.data(), z.data(), id.data(), n, {0, 0, 0}, 1.0);
+  const long long nbx = cl.bins_along(0), nby = cl.bins_along(1), nbz = cl.bins_along(2);
+  ASSERT_EQ(static_cast<std::size_t>(nbx * nby * nbz), cl.bins());
+  ASSERT_GE(nby, 6);
+  for (long long rows : {0LL, 1LL, 2LL, 4LL, nby, nby + 5}) {
+    std::vector<std::size_t> seen;
+    cl.for_each_bin_in_slabs(rows, [&](std::size_t b) { seen.push_back(b); });
+    std::vector<std::size_t> sorted = seen;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::size_t> all(cl.bins());
+    std::iota(all.begin(), all.end(), 0);
+    EXPECT_EQ(sorted, all) << rows << " rows per slab";
+    // Slab by slab (rows of y), every z plane, x fastest.
+    const long long r = std::max(rows, 1LL);
+    std::size_t k = 0;
+    for (long long y0 = 0; y0 < nby; y0 += r)
+      for (long long bz = 0; bz < nbz; ++bz)
+        for (long long by = y0; by < std::min(y0 + r, nby); ++by)
+          for (long long bx = 0; bx < nbx; ++bx, ++k) {
+            EXPECT_EQ(seen[k], static_cast<std::size_t>((bz * nby + by) * nbx + bx));
+          }
+    if (rows >= nby) {
+      EXPECT_EQ(seen, all);  // one slab: the flat order
+    }
+  }
+}
+
 #include "particles/particle_set.hpp"
 
 TEST(ParticleSet, ReorderOwnedPermutesEveryColumn) {
