@@ -19,9 +19,9 @@
 
 namespace biota::scenarios {
 
-/// \brief Rows of bins per slab for OrderedCellList::for_each_bin_in_slabs(), so that the rows
-/// a slab's gathers read ((2m+1) planes of rows + 2m rows, m = reach, 56 bytes per point) take
-/// about half of this core's L2. On small grids that is every row: the flat order.
+/// \brief Rows of bins per slab for OrderedCellList::for_each_bin_in_slabs(): the rows a slab's
+/// gathers read, rows + 2m in each of 2m + 1 planes (m = reach, 56 bytes per point), take about
+/// half of this core's L2. On small grids that is every row, so the order is the flat one.
 long long slab_rows(const particles::OrderedCellList& cells, int reach);
 
 /// \brief See file comment.

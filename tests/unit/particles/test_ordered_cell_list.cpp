@@ -105,6 +105,7 @@ TEST(OrderedCellList, SlabsVisitEveryBinOnceInPlaneOrderWithinEachSlab) {
   for (long long rows : {0LL, 1LL, 2LL, 4LL, nby, nby + 5}) {
     std::vector<std::size_t> seen;
     cl.for_each_bin_in_slabs(rows, [&](std::size_t b) { seen.push_back(b); });
+    ASSERT_EQ(seen.size(), cl.bins()) << rows << " rows per slab";
     std::vector<std::size_t> sorted = seen;
     std::sort(sorted.begin(), sorted.end());
     std::vector<std::size_t> all(cl.bins());
