@@ -23,6 +23,9 @@ run mpirun -np 1 ./build/biota bench lbm
 run mpirun -np 2 ./build/biota bench lbm
 run ./build/biota bench flock --boids 100000 --steps 10
 run ./build/biota bench flock --boids 1000000 --steps 5
+# The same case started by mpirun, bound to a core as a user's run is: started alone, OpenMPI's
+# singleton is unbound and often ran this short case slower (docs/performance.md, session 29).
+run mpirun -np 1 ./build/biota bench flock --boids 1000000 --steps 5
 run mpirun -np 2 ./build/biota bench flock --boids 1000000 --steps 5 --rounds 3
 run mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare
 if [ -x build-v3/biota ]; then run build-v3/biota bench flock --boids 100000 --steps 10; fi
