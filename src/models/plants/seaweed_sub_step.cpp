@@ -46,27 +46,35 @@ Col3 cols3(const ParticleSet& s, int a) {
 
 /// The blocks' subsequences of a list of n interactions, as a CSR of positions in the list:
 /// interaction k goes to the block of each of its owned spheres (once if both are in one block),
-/// in list order. `spheres(k)` gives its two slots. The offsets `begin` are always counted; the
-/// positions `at` are filled only when `wanted(total)` for the total the offsets give.
-template <class Spheres, class Wanted>
-void split_by_block(std::size_t n, std::size_t n_owned, std::size_t block, std::size_t n_blocks,
-                    Spheres spheres, std::vector<std::size_t>& begin, std::vector<std::size_t>& at,
-                    Wanted wanted) {
-  begin.assign(n_blocks + 1, 0);
-  const auto blocks_of = [&](std::size_t k, auto&& visit) {
+/// in list order. `spheres(k)` gives its two slots. count() gives the offsets, so a caller can
+/// decide from the total before fill() copies the positions out.
+template <class Spheres>
+struct BlockSplit {
+  std::size_t n, n_owned, block, n_blocks;
+  Spheres spheres;
+
+  template <class Visit>
+  void blocks_of(std::size_t k, Visit&& visit) const {
     const auto [s0, s1] = spheres(k);
     const std::size_t b0 = s0 < n_owned ? s0 / block : n_blocks;
     const std::size_t b1 = s1 < n_owned ? s1 / block : n_blocks;
     if (b0 < n_blocks) visit(b0);
     if (b1 < n_blocks && b1 != b0) visit(b1);
-  };
-  for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { ++begin[b + 1]; });
-  for (std::size_t b = 0; b < n_blocks; ++b) begin[b + 1] += begin[b];
-  if (!wanted(begin[n_blocks])) return;
-  at.resize(begin[n_blocks]);
-  std::vector<std::size_t> fill(begin.begin(), begin.end() - 1);
-  for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { at[fill[b]++] = k; });
-}
+  }
+  /// Block b's entries are [begin[b], begin[b + 1]); returns the total.
+  std::size_t count(std::vector<std::size_t>& begin) const {
+    begin.assign(n_blocks + 1, 0);
+    for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { ++begin[b + 1]; });
+    for (std::size_t b = 0; b < n_blocks; ++b) begin[b + 1] += begin[b];
+    return begin[n_blocks];
+  }
+  /// The positions, by the offsets of count().
+  void fill(const std::vector<std::size_t>& begin, std::vector<std::size_t>& at) const {
+    at.resize(begin[n_blocks]);
+    std::vector<std::size_t> next(begin.begin(), begin.end() - 1);
+    for (std::size_t k = 0; k < n; ++k) blocks_of(k, [&](std::size_t b) { at[next[b]++] = k; });
+  }
+};
 }  // namespace
 
 std::size_t SeaweedBodies::block_spheres() const {
@@ -91,11 +99,11 @@ std::size_t SeaweedBodies::n_blocks_in_use() const {
 
 void SeaweedBodies::split_joints_by_block() {
   if (n_blocks() == 1) return;
+  const BlockSplit split{joints_.size(), set_.n_owned(), block_spheres(), n_blocks(),
+                         [&](std::size_t m) { return joints_[m]; }};
   std::vector<std::size_t> at;
-  split_by_block(
-      joints_.size(), set_.n_owned(), block_spheres(), n_blocks(),
-      [&](std::size_t m) { return joints_[m]; }, block_joint_begin_, at,
-      [](std::size_t) { return true; });
+  split.count(block_joint_begin_);
+  split.fill(block_joint_begin_, at);
   block_joints_.resize(at.size());
   block_joint_parent_id_.resize(at.size());
   for (std::size_t k = 0; k < at.size(); ++k)
@@ -104,23 +112,19 @@ void SeaweedBodies::split_joints_by_block() {
 
 void SeaweedBodies::split_contacts_by_block() {
   if (n_blocks() == 1) return;
-  std::vector<std::size_t> at;
-  split_by_block(
-      near_.size(), set_.n_owned(), block_spheres(), n_blocks(),
-      [&](std::size_t k) {
-        return std::pair<std::size_t, std::size_t>{near_[k].a, near_[k].b};
-      },
-      block_contact_begin_, at,
-      [&](std::size_t n_split) {
-        // Automatic blocks only while the interactions they share add at most a tenth to the
-        // work: many contacts join two plants in a dense mat, and a block is a few plants. Where
-        // they do not pay, the contacts are not copied out (the offsets tell).
-        const std::size_t whole = joints_.size() + near_.size(),
-                          split = block_joints_.size() + n_split;
-        blocks_pay_ = p_.sub_step_block >= 0 || split * 10 <= whole * 11;
-        return blocks_pay_;
-      });
+  const BlockSplit split{near_.size(), set_.n_owned(), block_spheres(), n_blocks(),
+                         [&](std::size_t k) {
+                           return std::pair<std::size_t, std::size_t>{near_[k].a, near_[k].b};
+                         }};
+  // Automatic blocks only while the interactions they share add at most a tenth to the work:
+  // many contacts join two plants in a dense mat, and a block is a few plants. Where they do not
+  // pay, the contacts are not copied out.
+  const std::size_t whole = joints_.size() + near_.size(),
+                    in_blocks = block_joints_.size() + split.count(block_contact_begin_);
+  blocks_pay_ = p_.sub_step_block >= 0 || in_blocks * 10 <= whole * 11;
   if (!blocks_pay_) return;
+  std::vector<std::size_t> at;
+  split.fill(block_contact_begin_, at);
   block_contacts_.resize(at.size());
   for (std::size_t k = 0; k < at.size(); ++k) block_contacts_[k] = near_[at[k]];
 }
