@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -25,17 +27,21 @@ class OrderedCellList {
  public:
   /// \brief Bin points [0, n) (coordinate arrays and global ids) into cubic bins of edge
   /// cutoff / reach aligned at `origin`: bin index floor((x - origin) / edge) per axis.
-  /// for_each_near() then sees every partner within `cutoff`.
+  /// for_each_near() then sees every partner within `cutoff`. The columns in `carry` (arrays
+  /// indexed like x) are copied into slot order alongside the positions: carried(c)[k] =
+  /// carry[c][index(k)].
   /// \throws std::runtime_error if the points span more than 2^26 bins or a coordinate is not
   /// finite (a stray particle).
   void build(const core::Real* x, const core::Real* y, const core::Real* z,
              const core::GlobalId* id, std::size_t n, const core::Vec3& origin, core::Real cutoff,
-             int reach = 1) {
+             int reach = 1, std::span<const core::Real* const> carry = {}) {
+    if (n > std::numeric_limits<Slot>::max())
+      throw std::runtime_error("OrderedCellList: more points than 32-bit slots");
     n_ = n;
     origin_ = origin;
     reach_ = reach;
     inv_edge_ = reach / cutoff;
-    bin_.resize(n);
+    carried_.resize(carry.size());
     if (n == 0) {
       head_.assign(2, 0);
       nb_[0] = nb_[1] = nb_[2] = 1;
@@ -43,17 +49,10 @@ class OrderedCellList {
     }
     // The bin range from the coordinate range: floor((v - o) * s) is monotonic in v (each step
     // rounds monotonically), so the lowest bin is the bin of the lowest coordinate, bit for bit.
-    // One bounds pass, then one pass for the flat bin and its count: no per-axis bin arrays.
     const core::Real* c[3] = {x, y, z};
     for (int d = 0; d < 3; ++d) {
-      const core::Real* cd = c[d];
-      core::Real l = cd[0], h = cd[0], non_finite = 0;  // v - v is NaN for a NaN or an infinity
-      for (std::size_t i = 0; i < n; ++i) {
-        l = cd[i] < l ? cd[i] : l;
-        h = cd[i] > h ? cd[i] : h;
-        non_finite += cd[i] - cd[i];
-      }
-      if (non_finite != 0)
+      core::Real l, h;
+      if (!finite_range(c[d], n, l, h))
         throw std::runtime_error("OrderedCellList: a coordinate is not finite (stray particle?)");
       lo_[d] = axis_bin(d, l);
       nb_[d] = axis_bin(d, h) - lo_[d] + 1;
@@ -61,27 +60,37 @@ class OrderedCellList {
     const long long total = nb_[0] * nb_[1] * nb_[2];
     if (total > (1LL << 26))
       throw std::runtime_error("OrderedCellList: points span too many bins (stray particle?)");
-    head_.assign(static_cast<std::size_t>(total) + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t b = static_cast<std::size_t>(
-          flat(axis_bin(0, x[i]) - lo_[0], axis_bin(1, y[i]) - lo_[1], axis_bin(2, z[i]) - lo_[2]));
-      bin_[i] = b;
-      ++head_[b + 1];
+    // Each point's bin, then the counts and their prefix sum (two loops: the bins' arithmetic
+    // does not wait on the counts' stores).
+    bin_.resize(n);
+    {
+      const core::Real ox = origin_[0], oy = origin_[1], oz = origin_[2], s = inv_edge_;
+      const long long l0 = lo_[0], l1 = lo_[1], l2 = lo_[2], n0 = nb_[0], n1 = nb_[1];
+      Slot* bin = bin_.data();
+      for (std::size_t i = 0; i < n; ++i) {
+        const long long bx = static_cast<long long>(std::floor((x[i] - ox) * s)) - l0,
+                        by = static_cast<long long>(std::floor((y[i] - oy) * s)) - l1,
+                        bz = static_cast<long long>(std::floor((z[i] - oz) * s)) - l2;
+        bin[i] = static_cast<Slot>((bz * n1 + by) * n0 + bx);
+      }
     }
+    head_.assign(static_cast<std::size_t>(total) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++head_[bin_[i] + 1];
     for (std::size_t b = 1; b < head_.size(); ++b) head_[b] += head_[b - 1];
+    // Stable counting sort: slot -> index in storage order within each bin.
     order_.resize(n);
     fill_.assign(head_.begin(), head_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order_[fill_[bin_[i]]++] = i;
+    for (std::size_t i = 0; i < n; ++i) order_[fill_[bin_[i]]++] = static_cast<Slot>(i);
     // Ascending id inside each bin (bins hold a handful of points: insertion sort), on the ids
     // copied in slot order (contiguous) with the slot -> index map alongside.
-    sx_.resize(n), sy_.resize(n), sz_.resize(n), sid_.resize(n);
+    sid_.resize(n);
     for (std::size_t k = 0; k < n; ++k) sid_[k] = id[order_[k]];
     for (std::size_t b = 0; b + 1 < head_.size(); ++b) {
       const std::size_t first = head_[b], last = head_[b + 1];
       for (std::size_t k = first + 1; k < last; ++k) {
         const core::GlobalId vid = sid_[k];
         if (sid_[k - 1] <= vid) continue;
-        const std::size_t v = order_[k];
+        const Slot v = order_[k];
         std::size_t m = k;
         while (m > first && sid_[m - 1] > vid) {
           order_[m] = order_[m - 1];
@@ -92,9 +101,24 @@ class OrderedCellList {
         sid_[m] = vid;
       }
     }
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = order_[k];
-      sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i];
+    // The positions and the carried columns in slot order, in one pass over the map.
+    sx_.resize(n), sy_.resize(n), sz_.resize(n);
+    for (auto& col : carried_) col.resize(n);
+    if (carry.size() == 3) {  // a vector's components: one pass for all six columns
+      const core::Real *c0 = carry[0], *c1 = carry[1], *c2 = carry[2];
+      core::Real *t0 = carried_[0].data(), *t1 = carried_[1].data(), *t2 = carried_[2].data();
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = order_[k];
+        sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i];
+        t0[k] = c0[i], t1[k] = c1[i], t2[k] = c2[i];
+      }
+    } else {
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = order_[k];
+        sx_[k] = x[i], sy_[k] = y[i], sz_[k] = z[i];
+      }
+      for (std::size_t a = 0; a < carry.size(); ++a)
+        for (std::size_t k = 0; k < n; ++k) carried_[a][k] = carry[a][order_[k]];
     }
   }
 
@@ -156,8 +180,6 @@ class OrderedCellList {
 
   /// \brief Points binned by the last build().
   std::size_t size() const { return n_; }
-  /// \brief One past the last slot of the bin that holds slot k (a bin's slots are contiguous).
-  std::size_t bin_end(std::size_t k) const { return head_[bin_[order_[k]] + 1]; }
   /// \brief Number of bins of the last build(); bin b holds slots [bin_begin(b), bin_begin(b + 1)),
   /// bins in ascending flat index (the slot order).
   std::size_t bins() const { return head_.size() - 1; }
@@ -170,8 +192,35 @@ class OrderedCellList {
   const core::Real* y() const { return sy_.data(); }         ///< \brief y in slot order
   const core::Real* z() const { return sz_.data(); }         ///< \brief z in slot order
   const core::GlobalId* ids() const { return sid_.data(); }  ///< \brief ids in slot order
+  /// \brief Column c of build()'s `carry`, in slot order.
+  const core::Real* carried(std::size_t c) const { return carried_[c].data(); }
 
  private:
+  using Slot = std::uint32_t;  // slots and bins: half the memory traffic of 64-bit indices
+
+  /// \brief Lowest and highest of c[0, n) in l and h; false if any is not finite. Four
+  /// independent lanes, so the loop is not one long dependency chain.
+  static bool finite_range(const core::Real* c, std::size_t n, core::Real& l, core::Real& h) {
+    core::Real lo[4], hi[4], non_finite[4];  // v - v is NaN for a NaN or an infinity
+    for (int j = 0; j < 4; ++j) lo[j] = hi[j] = c[0], non_finite[j] = 0;
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+      for (int j = 0; j < 4; ++j) {
+        const core::Real v = c[i + j];
+        lo[j] = v < lo[j] ? v : lo[j];
+        hi[j] = v > hi[j] ? v : hi[j];
+        non_finite[j] += v - v;
+      }
+    for (; i < n; ++i) {
+      const core::Real v = c[i];
+      lo[0] = v < lo[0] ? v : lo[0];
+      hi[0] = v > hi[0] ? v : hi[0];
+      non_finite[0] += v - v;
+    }
+    l = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
+    h = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
+    return non_finite[0] + non_finite[1] + non_finite[2] + non_finite[3] == 0;
+  }
   long long axis_bin(int d, core::Real v) const {
     return static_cast<long long>(std::floor((v - origin_[d]) * inv_edge_));
   }
@@ -183,8 +232,9 @@ class OrderedCellList {
   core::Real inv_edge_ = 1;
   long long reach_ = 1;
   long long lo_[3] = {0, 0, 0}, nb_[3] = {1, 1, 1};
-  std::vector<std::size_t> head_, bin_, order_, fill_;
+  std::vector<Slot> head_, bin_, order_, fill_;
   std::vector<core::Real> sx_, sy_, sz_;
+  std::vector<std::vector<core::Real>> carried_;
   std::vector<core::GlobalId> sid_;
 };
 

@@ -10,30 +10,30 @@ namespace biota::scenarios {
 void FlockScenario::begin_step() {
   if (balancing() && step_ % balance_interval_ == 0) rebalance();
   pcomm_->migrate(*set_);
-  if (step_ % 16 == 0) {  // keep owned boids in cell order: the neighbour loop then streams memory
-    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
-                 set_->real(particles::ParticleSet::kPos, 1),
-                 set_->real(particles::ParticleSet::kPos, 2),
-                 set_->u64(particles::ParticleSet::kId), set_->n_owned(), lo_, radius_, bin_reach_);
-    std::vector<std::size_t> order(set_->n_owned());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = cells_.index(k);
-    set_->reorder_owned(order);
-  }
+  if (step_ % kReorderInterval == 0) reorder_by_cell();
   pcomm_->build_ghosts(*set_, radius_);
   const std::size_t n = set_->n_total();
+  // The velocities ride along into slot order (the rules read them there).
+  const double* const velocity[3] = {set_->real(a_vel_, 0), set_->real(a_vel_, 1),
+                                     set_->real(a_vel_, 2)};
   cells_.build(set_->real(particles::ParticleSet::kPos, 0),
                set_->real(particles::ParticleSet::kPos, 1),
                set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
-               n, lo_, radius_, bin_reach_);
-  svx_.resize(n), svy_.resize(n), svz_.resize(n), eligible_.resize(n);
-  const double *vx = set_->real(a_vel_, 0), *vy = set_->real(a_vel_, 1),
-               *vz = set_->real(a_vel_, 2);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = cells_.index(k);
-    svx_[k] = vx[i], svy_[k] = vy[i], svz_[k] = vz[i];
-    const core::GlobalId id = cells_.ids()[k];
-    eligible_[k] = is_prey(id) && flying(id);
-  }
+               n, lo_, radius_, bin_reach_, velocity);
+  eligible_.resize(n);
+  const core::GlobalId* ids = cells_.ids();
+  for (std::size_t k = 0; k < n; ++k) eligible_[k] = is_prey(ids[k]) && flying(ids[k]);
+}
+
+void FlockScenario::reorder_by_cell() {
+  cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+               set_->real(particles::ParticleSet::kPos, 1),
+               set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
+               set_->n_owned(), lo_, radius_, bin_reach_);
+  std::vector<std::size_t> order(set_->n_owned());
+  bool moved = false;
+  for (std::size_t k = 0; k < order.size(); ++k) moved |= (order[k] = cells_.index(k)) != k;
+  if (moved) set_->reorder_owned(order);  // boids at rest (before take-off) keep their order
 }
 
 void FlockScenario::rebalance() {

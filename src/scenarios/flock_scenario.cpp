@@ -400,6 +400,7 @@ void FlockScenario::step() {
     const double* Y = cells_.y();
     const double* Z = cells_.z();
     const core::GlobalId* ids = cells_.ids();
+    const double *VX = cells_.carried(0), *VY = cells_.carried(1), *VZ = cells_.carried(2);
     // Bin by bin (the slot order, no per-slot bin lookup); gathered_end: end slot of the bin whose
     // candidates bin_ holds.
     std::size_t gathered_end = 0;
@@ -413,7 +414,7 @@ void FlockScenario::step() {
         if (i >= no) continue;
         const core::GlobalId id = ids[k];
         if (!flying(id)) continue;
-        const Vec3 x{X[k], Y[k], Z[k]}, v{svx_[k], svy_[k], svz_[k]};
+        const Vec3 x{X[k], Y[k], Z[k]}, v{VX[k], VY[k], VZ[k]};
         if (core::dot(v, v) == 0) {  // first flying frame: launch (chaos-game order, spec 2.7)
           launch[i] = 1;
           continue;
@@ -434,8 +435,7 @@ void FlockScenario::step() {
         const mf::NeighbourSums s = [&] {
           if (align_mode_ == mf::AlignmentMode::kAverage) {
             if (gathered_end != bin_last) {  // first boid of its bin that needs the candidates
-              bin_.gather(cells_, bin_first, bin_last, svx_.data(), svy_.data(), svz_.data(),
-                          eligible_.data(), R2);
+              bin_.gather(cells_, bin_first, bin_last, VX, VY, VZ, eligible_.data(), R2);
               gathered_end = bin_last;
             }
             candidates = bin_.size();
@@ -448,7 +448,7 @@ void FlockScenario::step() {
             const double r2 = core::dot(d, d);
             if (r2 >= R2 || !eligible_[j]) return;
             if (!mf::perceives(v, d, r2, R2, fov_cos_)) return;
-            mf::accumulate_neighbour(near_sums, d, r2, {svx_[j], svy_[j], svz_[j]}, ids[j], dstar);
+            mf::accumulate_neighbour(near_sums, d, r2, {VX[j], VY[j], VZ[j]}, ids[j], dstar);
           });
           return near_sums;
         }();

@@ -31,14 +31,23 @@ TEST(OrderedCellList, MatchesBruteForceAndOrderIsStorageIndependent) {
     std::vector<GlobalId> pid(n);
     for (std::size_t k = 0; k < n; ++k)
       px[k] = x[perm[k]], py[k] = y[perm[k]], pz[k] = z[perm[k]], pid[k] = id[perm[k]];
+    // Carried columns (three: the one-pass case; the slab test carries one): the id, -x and 2y
+    // of each point, as reals.
+    std::vector<double> cid(n), cnx(n), c2y(n);
+    for (std::size_t k = 0; k < n; ++k)
+      cid[k] = double(pid[k]), cnx[k] = -px[k], c2y[k] = 2 * py[k];
+    const double* const carry[3] = {cid.data(), cnx.data(), c2y.data()};
     OrderedCellList cl;
-    cl.build(px.data(), py.data(), pz.data(), pid.data(), n, {-10, -10, -10}, rc);
+    cl.build(px.data(), py.data(), pz.data(), pid.data(), n, {-10, -10, -10}, rc, 1, carry);
     // For each particle in original order: the sequence of neighbour ids.
     std::vector<std::vector<GlobalId>> seq(n);
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = perm[k];
       cl.for_each_near({px[k], py[k], pz[k]}, [&](std::size_t s) {
         EXPECT_EQ(cl.ids()[s], pid[cl.index(s)]);
+        EXPECT_EQ(cl.carried(0)[s], double(cl.ids()[s]));
+        EXPECT_EQ(cl.carried(1)[s], -cl.x()[s]);
+        EXPECT_EQ(cl.carried(2)[s], 2 * cl.y()[s]);
         const double dx = cl.x()[s] - px[k], dy = cl.y()[s] - py[k], dz = cl.z()[s] - pz[k];
         if (cl.ids()[s] != pid[k] && dx * dx + dy * dy + dz * dz < rc * rc)
           seq[i].push_back(cl.ids()[s]);
@@ -86,6 +95,21 @@ TEST(OrderedCellList, RefusesNonFiniteAndFarStrayPoints) {
                std::runtime_error);
   cl.build(x.data(), y.data(), z.data(), id.data(), 3, {0, 0, 0}, 0.1);  // usable again
   EXPECT_EQ(cl.size(), 3u);
+  // Nine points: the range scan's four lanes (points 0-7) and its tail (point 8).
+  std::vector<double> x9(9, 0.5), y9(9, 0.5), z9(9, 0.5);
+  std::vector<GlobalId> id9(9);
+  std::iota(id9.begin(), id9.end(), GlobalId{1});
+  for (std::size_t at : {0u, 5u, 8u})
+    for (double bad : {nan, inf, -inf}) {
+      auto xb = x9;
+      xb[at] = bad;
+      EXPECT_THROW(cl.build(xb.data(), y9.data(), z9.data(), id9.data(), 9, {0, 0, 0}, 0.1),
+                   std::runtime_error)
+          << "point " << at;
+    }
+  x9[6] = 0.05, x9[8] = 0.95;  // the lowest in a lane, the highest in the tail: bins 0 .. 9
+  cl.build(x9.data(), y9.data(), z9.data(), id9.data(), 9, {0, 0, 0}, 0.1);
+  EXPECT_EQ(cl.bins_along(0), 10);
 }
 
 TEST(OrderedCellList, SlabsVisitEveryBinOnceInPlaneOrderWithinEachSlab) {
@@ -97,8 +121,12 @@ TEST(OrderedCellList, SlabsVisitEveryBinOnceInPlaneOrderWithinEachSlab) {
     x[i] = r.uniform(0, 5), y[i] = r.uniform(0, 7), z[i] = r.uniform(0, 3);
     id[i] = i;
   }
+  std::vector<double> zz(n);
+  for (std::size_t i = 0; i < n; ++i) zz[i] = z[i] * z[i];
+  const double* const carry[1] = {zz.data()};
   OrderedCellList cl;
-  cl.build(x.data(), y.data(), z.data(), id.data(), n, {0, 0, 0}, 1.0);
+  cl.build(x.data(), y.data(), z.data(), id.data(), n, {0, 0, 0}, 1.0, 1, carry);
+  for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(cl.carried(0)[k], zz[cl.index(k)]);
   const long long nbx = cl.bins_along(0), nby = cl.bins_along(1), nbz = cl.bins_along(2);
   ASSERT_EQ(static_cast<std::size_t>(nbx * nby * nbz), cl.bins());
   ASSERT_GE(nby, 6);
