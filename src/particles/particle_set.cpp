@@ -115,16 +115,17 @@ void ParticleSet::remove_owned(const std::vector<char>& remove) {
 void ParticleSet::reorder_owned(const std::vector<std::size_t>& order) {
   if (order.size() != n_owned_) throw std::invalid_argument("reorder_owned: order size != n_owned");
   resize(n_owned_, n_owned_);
-  std::vector<Real> rt(n_owned_);
-  for (auto& c : rcol_) {
-    for (std::size_t m = 0; m < n_owned_; ++m) rt[m] = c[order[m]];
-    std::copy(rt.begin(), rt.end(), c.begin());
-  }
-  std::vector<std::uint64_t> ut(n_owned_);
-  for (auto& c : ucol_) {
-    for (std::size_t m = 0; m < n_owned_; ++m) ut[m] = c[order[m]];
-    std::copy(ut.begin(), ut.end(), c.begin());
-  }
+  // Each column is gathered into a spare one, which then takes its place (no copy back); the
+  // column it replaces becomes the spare for the next, so the capacities stay in the set.
+  const auto permute = [&](auto& columns, auto& spare) {
+    for (auto& c : columns) {
+      spare.resize(n_owned_);
+      for (std::size_t m = 0; m < n_owned_; ++m) spare[m] = c[order[m]];
+      c.swap(spare);
+    }
+  };
+  permute(rcol_, spare_real_);
+  permute(ucol_, spare_u64_);
 }
 
 void ParticleSet::zero_real(int a) {

@@ -145,6 +145,8 @@ class ParticleSet {
   std::vector<std::size_t> rfirst_, ufirst_;  // first column of each attribute
   std::vector<std::vector<Real>> rcol_;
   std::vector<std::vector<std::uint64_t>> ucol_;
+  std::vector<Real> spare_real_;  // reorder_owned's gather target
+  std::vector<std::uint64_t> spare_u64_;
   std::vector<char> rmig_, rghost_, umig_, ughost_;  // per column flags
   std::vector<int> pos_off_ghost_, pos_off_migrate_, extra_pos_;
   std::size_t n_owned_ = 0, n_total_ = 0;

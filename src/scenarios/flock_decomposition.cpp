@@ -9,8 +9,8 @@ namespace biota::scenarios {
 
 void FlockScenario::begin_step() {
   if (balancing() && step_ % balance_interval_ == 0) rebalance();
-  pcomm_->migrate(*set_);
   if (step_ % kReorderInterval == 0) reorder_by_cell();
+  pcomm_->migrate(*set_);
   pcomm_->build_ghosts(*set_, radius_);
   const std::size_t n = set_->n_total();
   // The velocities ride along into slot order (the rules read them there).
@@ -26,13 +26,19 @@ void FlockScenario::begin_step() {
 }
 
 void FlockScenario::reorder_by_cell() {
-  cells_.build(set_->real(particles::ParticleSet::kPos, 0),
-               set_->real(particles::ParticleSet::kPos, 1),
-               set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
-               set_->n_owned(), lo_, radius_, bin_reach_);
-  std::vector<std::size_t> order(set_->n_owned());
+  // The last step's cell list (owned and ghosts): its slots in order, ghosts left out. Positions
+  // have moved by one step since, which is close enough for a storage order; the set has not
+  // changed (no migration yet), unless this is the first step or a restart's (then no list).
+  const std::size_t no = set_->n_owned();
+  std::vector<std::size_t> order;
+  order.reserve(no);
   bool moved = false;
-  for (std::size_t k = 0; k < order.size(); ++k) moved |= (order[k] = cells_.index(k)) != k;
+  for (std::size_t k = 0; k < cells_.size(); ++k)
+    if (const std::size_t i = cells_.index(k); i < no) {
+      moved |= i != order.size();
+      order.push_back(i);
+    }
+  if (order.size() != no) return;
   if (moved) set_->reorder_owned(order);  // boids at rest (before take-off) keep their order
 }
 

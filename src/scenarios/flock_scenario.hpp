@@ -88,10 +88,11 @@ class FlockScenario : public Scenario {
 
   void place_boids();
   void begin_step();  // migrate + ghosts + cell list
-  /// Store the owned boids in cell-list order, so the rules phase and the cell-list build read
-  /// memory nearly in order. Every kReorderInterval steps: at 4 m/s and 0.05 s a boid changes
-  /// bin about every 10 steps, and with 16 steps between reorders the 1e6-boid step ran ~4%
-  /// slower than with 4 (performance-flock.md, session 30). The storage order changes no result.
+  /// Store the owned boids in the order of the last step's cell list, so the rules phase and the
+  /// cell-list build read memory nearly in order. Every kReorderInterval steps: at 4 m/s and
+  /// 0.05 s a boid changes bin about every 10 steps, and with 16 steps between reorders the
+  /// 1e6-boid step ran ~4% slower than with 4 (performance-flock.md, session 30). The storage
+  /// order changes no result.
   void reorder_by_cell();
   static constexpr long long kReorderInterval = 4;
   /// Move the cut between ranks by measured speed (flock_decomposition.cpp); before a migration.
