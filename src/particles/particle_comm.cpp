@@ -68,7 +68,7 @@ void ParticleComm::wrap_particle(ParticleSet& set, std::size_t i, Real* const x[
   }
 }
 
-void ParticleComm::migrate(ParticleSet& set) {
+void ParticleComm::migrate(ParticleSet& set, bool keep_order) {
   set.clear_ghosts();
   have_plan_ = false;
   MPI_Comm comm = decomp_.comm();
@@ -88,10 +88,14 @@ void ParticleComm::migrate(ParticleSet& set) {
       for (int a : set.extra_positions()) set.real(a, d)[i] += w - v;
     }
   }
-  bool split[3], any_split = false;
-  for (int d = 0; d < 3; ++d) any_split |= split[d] = decomp_.dims()[d] > 1;
+  bool split[3];
+  for (int d = 0; d < 3; ++d) split[d] = decomp_.dims()[d] > 1;
   for (int round = 0;; ++round) {
     if (round > 64) throw std::runtime_error("ParticleComm::migrate did not converge");
+    // Particles not yet home after this round: only arrivals can be (a particle that stays was
+    // home along every split axis). An arrival along axis d is tested here along the axes up to
+    // d; the later axes of the round test it as they test every particle.
+    long long away = 0;
     for (int d = 0; d < 3; ++d) {
       const int dims = decomp_.dims()[d], me = decomp_.coords()[d];
       if (dims == 1) continue;
@@ -111,26 +115,24 @@ void ParticleComm::migrate(ParticleSet& set) {
         gone[i] = 1;
         any_gone = true;
       }
-      if (any_gone) set.remove_owned(gone);
+      if (any_gone) set.remove_owned(gone, keep_order);
       for (int side = 0; side < 2; ++side) {
         auto in = sendrecv(out[side], decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
                            kTagMigrate + 2 * side, comm, sent_);
         const std::size_t n = in.size() / w, first = set.n_owned();
         set.resize(first + n, first + n);
-        for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, false, in.data() + k * w);
+        for (std::size_t k = 0; k < n; ++k) {
+          const std::size_t i = first + k;
+          set.unpack(i, false, in.data() + k * w);
+          for (int e = 0; e <= d; ++e)
+            if (split[e] && !is_home(e, set.real(ParticleSet::kPos, e)[i])) {
+              ++away;
+              break;
+            }
+        }
       }
     }
     // Done when every particle is home (at most a few rounds when a move spans several ranks).
-    long long away = 0;
-    // Compare rank coordinates directly (no MPI_Cart_rank per particle): same test as owner_of.
-    // On one rank (no axis split) every particle is home.
-    if (any_split)
-      for (std::size_t i = 0; i < set.n_owned(); ++i)
-        for (int d = 0; d < 3; ++d)
-          if (split[d] && axis_coord(d, set.real(ParticleSet::kPos, d)[i]) != decomp_.coords()[d]) {
-            ++away;
-            break;
-          }
     long long total = 0;
     MPI_Allreduce(&away, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
     if (total == 0) break;

@@ -29,8 +29,10 @@ class ParticleComm {
 
   /// \brief Send owned particles that left this rank's box to their owner through face
   /// neighbours (repeated passes until every particle is home; diagonal moves take one round).
-  /// Wraps positions on periodic axes. Drops ghosts. Collective.
-  void migrate(ParticleSet& set);
+  /// Wraps positions on periodic axes. Drops ghosts. Collective. With keep_order the staying
+  /// particles keep their order and the arrivals follow them; without it (for a caller that
+  /// reorders its storage anyway) the removal costs only as much as the particles that left.
+  void migrate(ParticleSet& set, bool keep_order = true);
   /// \brief Send every owned particle straight to its owner (all-to-all; after setup/restart).
   void redistribute(ParticleSet& set);
   /// \brief Build ghosts: every image of a particle within `cutoff` of this rank's box (periodic
@@ -68,10 +70,12 @@ class ParticleComm {
   // this rank's cells [a, b), open below on the first rank and above on the last (the block
   // search clamps there), gives the same answer as the block search without its divisions.
   int axis_coord(int d, Real v) const {
+    return is_home(d, v) ? decomp_.coords()[d] : block_of_cell(d, (v - origin_[d]) / dx_);
+  }
+  // Whether v lies in this rank's cells along d (axis_coord's common answer).
+  bool is_home(int d, Real v) const {
     const Real t = (v - origin_[d]) / dx_;
-    if ((t >= home_cells_[d][0] || first_[d]) && (t < home_cells_[d][1] || last_[d]))
-      return decomp_.coords()[d];
-    return block_of_cell(d, t);
+    return (t >= home_cells_[d][0] || first_[d]) && (t < home_cells_[d][1] || last_[d]);
   }
   // The block search of axis_coord from the cell coordinate t.
   int block_of_cell(int d, Real t) const;

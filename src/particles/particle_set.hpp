@@ -104,9 +104,10 @@ class ParticleSet {
   std::size_t add_owned(GlobalId id, const Vec3& pos);
   /// \brief Drop every ghost.
   void clear_ghosts() { resize(n_owned_, n_owned_); }
-  /// \brief Remove owned particles flagged in `remove` (size n_owned); drops ghosts. Order of the
-  /// remaining particles is kept.
-  void remove_owned(const std::vector<char>& remove);
+  /// \brief Remove owned particles flagged in `remove` (size n_owned); drops ghosts. With
+  /// keep_order the remaining particles keep their order (every column moves down past the
+  /// holes); without it the last kept particles fill the holes (work in the number removed).
+  void remove_owned(const std::vector<char>& remove, bool keep_order = true);
   /// \brief Permute the owned particles: new slot m holds old owned particle order[m] (a
   /// permutation of [0, n_owned)); drops ghosts. Used to keep storage in spatial (cell) order so
   /// that neighbour loops touch memory in order; results never depend on the storage order.

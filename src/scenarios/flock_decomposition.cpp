@@ -10,7 +10,7 @@ namespace biota::scenarios {
 void FlockScenario::begin_step() {
   if (balancing() && step_ % balance_interval_ == 0) rebalance();
   if (step_ % kReorderInterval == 0) reorder_by_cell();
-  pcomm_->migrate(*set_);
+  pcomm_->migrate(*set_, /*keep_order=*/false);  // the reorder above restores the order
   pcomm_->build_ghosts(*set_, radius_);
   const std::size_t n = set_->n_total();
   // The velocities ride along into slot order (the rules read them there).

@@ -177,34 +177,43 @@ TEST(ParticleSet, ReorderOwnedPermutesEveryColumn) {
   EXPECT_THROW(s.reorder_owned({0, 1}), std::invalid_argument);
 }
 
-TEST(ParticleSet, RemoveOwnedKeepsTheOrderOfTheRestAndDropsGhosts) {
+TEST(ParticleSet, RemoveOwnedKeepsTheRestWholeInOrderOrNotAndDropsGhosts) {
   biota::particles::ParticleLayout layout;
   const int a = layout.add_real("v", 3, true, true);
   const int u = layout.add_u64("tag", 1, true, false);
-  // Removal patterns: none, the first, the last, a run, scattered, all.
-  const std::vector<std::vector<int>> patterns = {
-      {}, {0}, {9}, {3, 4, 5}, {0, 2, 7, 8}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}};
-  for (const auto& pat : patterns) {
-    biota::particles::ParticleSet s(layout);
-    for (int i = 0; i < 10; ++i) {
-      const std::size_t k = s.add_owned(100 + i, {double(i), 0, 0});
-      s.set_vec3(a, k, {0, double(i), 0});
-      s.u64(u)[k] = 7 * i;
+  // Removal patterns: none, the first, the last, a run, scattered, all, the tail, alternate.
+  const std::vector<std::vector<int>> patterns = {{},           {0},
+                                                  {9},          {3, 4, 5},
+                                                  {0, 2, 7, 8}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+                                                  {6, 7, 8, 9}, {1, 3, 5, 7, 9}};
+  for (bool keep_order : {true, false})
+    for (const auto& pat : patterns) {
+      biota::particles::ParticleSet s(layout);
+      for (int i = 0; i < 10; ++i) {
+        const std::size_t k = s.add_owned(100 + i, {double(i), 0, 0});
+        s.set_vec3(a, k, {0, double(i), 0});
+        s.u64(u)[k] = 7 * i;
+      }
+      s.resize(10, 13);  // three ghosts, dropped by the removal
+      std::vector<char> remove(10, 0);
+      for (int i : pat) remove[i] = 1;
+      s.remove_owned(remove, keep_order);
+      std::vector<int> want;
+      for (int i = 0; i < 10; ++i)
+        if (!remove[i]) want.push_back(i);
+      ASSERT_EQ(s.n_owned(), want.size());
+      EXPECT_EQ(s.n_total(), want.size());
+      // Each remaining particle whole (every column from the same original); in the original
+      // order with keep_order, else the same set.
+      std::vector<int> got;
+      for (std::size_t m = 0; m < want.size(); ++m) {
+        const int i = static_cast<int>(s.id(m)) - 100;
+        got.push_back(i);
+        EXPECT_EQ(s.pos(m).x, i);
+        EXPECT_EQ(s.vec3(a, m).y, i);
+        EXPECT_EQ(s.u64(u)[m], 7u * i);
+      }
+      if (!keep_order) std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, want) << (keep_order ? "in order" : "any order");
     }
-    s.resize(10, 13);  // three ghosts, dropped by the removal
-    std::vector<char> remove(10, 0);
-    for (int i : pat) remove[i] = 1;
-    s.remove_owned(remove);
-    std::vector<int> want;
-    for (int i = 0; i < 10; ++i)
-      if (!remove[i]) want.push_back(i);
-    ASSERT_EQ(s.n_owned(), want.size());
-    EXPECT_EQ(s.n_total(), want.size());
-    for (std::size_t m = 0; m < want.size(); ++m) {
-      EXPECT_EQ(s.id(m), 100u + want[m]);
-      EXPECT_EQ(s.pos(m).x, want[m]);
-      EXPECT_EQ(s.vec3(a, m).y, want[m]);
-      EXPECT_EQ(s.u64(u)[m], 7u * want[m]);
-    }
-  }
 }
