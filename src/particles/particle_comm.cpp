@@ -216,15 +216,11 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
         continue;
       }
       std::vector<double> out;
-      for (std::size_t i : p.send) {
-        const std::size_t at = out.size();
-        set.pack(i, true, out);
-        for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
-      }
+      set.pack_rows(p.send, true, d, p.shift, out);
       auto in = sendrecv(out, dest, src, kTagGhost + 2 * side, comm, sent_);
       const std::size_t n = in.size() / w, first = set.n_total();
       set.resize(set.n_owned(), first + n);
-      for (std::size_t k = 0; k < n; ++k) set.unpack(first + k, true, in.data() + k * w);
+      set.unpack_rows(first, n, true, in.data());
       p.recv_begin = first;
       p.recv_count = n;
     }
@@ -240,17 +236,11 @@ void ParticleComm::update_ghosts(ParticleSet& set) {
     for (int side = 0; side < 2; ++side) {
       GhostPass& p = plan_[d][side];
       std::vector<double> out;
-      out.reserve(p.send.size() * w);
-      for (std::size_t i : p.send) {
-        const std::size_t at = out.size();
-        set.pack(i, true, out);
-        for (int off : set.position_offsets(true)) out[at + off + d] += p.shift;
-      }
+      set.pack_rows(p.send, true, d, p.shift, out);
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
                          kTagUpdate + 2 * side, comm, sent_);
       if (in.size() != p.recv_count * w) throw std::logic_error("ghost plan out of date");
-      for (std::size_t k = 0; k < p.recv_count; ++k)
-        set.unpack(p.recv_begin + k, true, in.data() + k * w);
+      set.unpack_rows(p.recv_begin, p.recv_count, true, in.data());
     }
 }
 

@@ -121,16 +121,18 @@ class ParticleSet {
   int pack_width(bool ghost_only) const;
   /// \brief Append particle i's migrating (ghost_only=false) or ghost columns to `buf`.
   void pack(std::size_t i, bool ghost_only, std::vector<double>& buf) const;
-  /// \brief Offsets, within a packed particle, of the x component of every position-valued
-  /// attribute packed (the position itself first, at 0). A periodic shift along axis d adds L to
-  /// element offset + d of each.
-  const std::vector<int>& position_offsets(bool ghost_only) const {
-    return ghost_only ? pos_off_ghost_ : pos_off_migrate_;
-  }
   /// \brief Handles of the position-valued real attributes other than the position.
   const std::vector<int>& extra_positions() const { return extra_pos_; }
   /// \brief Write one packed particle into slot i (which must exist).
   void unpack(std::size_t i, bool ghost_only, const double* in);
+  /// \brief pack() of the particles `rows` in turn, appended to `buf`, with `shift` added to
+  /// component `axis` of every position-valued attribute packed (as a periodic image is; added
+  /// even when 0, as it is to the packed message). Filled column by column: one pass per column
+  /// instead of a pass over the columns per particle.
+  void pack_rows(const std::vector<std::size_t>& rows, bool ghost_only, int axis, Real shift,
+                 std::vector<double>& buf) const;
+  /// \brief unpack() of `count` packed particles into slots [first, first + count).
+  void unpack_rows(std::size_t first, std::size_t count, bool ghost_only, const double* in);
   /// \brief Append ghosts copying particles `from` (ghost columns; the others zero), with `shift`
   /// added to component `axis` of every position-valued ghost attribute: the values that
   /// pack(i, true), that shift and unpack() give, without a message (a periodic image held by
@@ -149,7 +151,7 @@ class ParticleSet {
   std::vector<Real> spare_real_;  // reorder_owned's gather target
   std::vector<std::uint64_t> spare_u64_;
   std::vector<char> rmig_, rghost_, umig_, ughost_;  // per column flags
-  std::vector<int> pos_off_ghost_, pos_off_migrate_, extra_pos_;
+  std::vector<int> extra_pos_;
   std::size_t n_owned_ = 0, n_total_ = 0;
 };
 
