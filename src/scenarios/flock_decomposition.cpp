@@ -9,7 +9,7 @@ namespace biota::scenarios {
 
 void FlockScenario::begin_step() {
   if (balancing() && step_ % balance_interval_ == 0) rebalance();
-  if (step_ % kReorderInterval == 0) reorder_by_cell();
+  if (step_ % kReorderInterval == 0 || cells_.size() == 0) reorder_by_cell();
   pcomm_->migrate(*set_, /*keep_order=*/false);  // the reorder above restores the order
   pcomm_->build_ghosts(*set_, radius_);
   const std::size_t n = set_->n_total();
@@ -27,18 +27,24 @@ void FlockScenario::begin_step() {
 
 void FlockScenario::reorder_by_cell() {
   // The last step's cell list (owned and ghosts): its slots in order, ghosts left out. Positions
-  // have moved by one step since, which is close enough for a storage order; the set has not
-  // changed (no migration yet), unless this is the first step or a restart's (then no list).
+  // have moved by one step since, which is close enough for a storage order, and no migration has
+  // changed the set since. Its owned slots are then exactly [0, n_owned), a permutation; a list
+  // from before a restart may give a worse order, never a wrong one (no result depends on it).
   const std::size_t no = set_->n_owned();
   std::vector<std::size_t> order;
   order.reserve(no);
-  bool moved = false;
   for (std::size_t k = 0; k < cells_.size(); ++k)
-    if (const std::size_t i = cells_.index(k); i < no) {
-      moved |= i != order.size();
-      order.push_back(i);
-    }
-  if (order.size() != no) return;
+    if (const std::size_t i = cells_.index(k); i < no) order.push_back(i);
+  if (order.size() != no) {  // no list for this set (the first step): bin the owned boids now
+    cells_.build(set_->real(particles::ParticleSet::kPos, 0),
+                 set_->real(particles::ParticleSet::kPos, 1),
+                 set_->real(particles::ParticleSet::kPos, 2),
+                 set_->u64(particles::ParticleSet::kId), no, lo_, radius_, bin_reach_);
+    order.resize(no);
+    for (std::size_t k = 0; k < no; ++k) order[k] = cells_.index(k);
+  }
+  bool moved = false;
+  for (std::size_t k = 0; k < no; ++k) moved |= order[k] != k;
   if (moved) set_->reorder_owned(order);  // boids at rest (before take-off) keep their order
 }
 

@@ -88,8 +88,9 @@ class FlockScenario : public Scenario {
 
   void place_boids();
   void begin_step();  // migrate + ghosts + cell list
-  /// Store the owned boids in the order of the last step's cell list, so the rules phase and the
-  /// cell-list build read memory nearly in order. Every kReorderInterval steps: at 4 m/s and
+  /// Store the owned boids in the order of the last step's cell list (of a list of the owned boids
+  /// built here on the first step), so the rules phase and the cell-list build read memory nearly
+  /// in order. Every kReorderInterval steps: at 4 m/s and
   /// 0.05 s a boid changes bin about every 10 steps, and with 16 steps between reorders the
   /// 1e6-boid step ran ~4% slower than with 4 (performance-flock.md, session 30). The storage
   /// order changes no result.
