@@ -1,6 +1,5 @@
 #include "particles/particle_comm.hpp"
 
-#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -216,11 +215,11 @@ void ParticleComm::build_ghosts(ParticleSet& set, Real cutoff) {
         continue;
       }
       std::vector<double> out;
-      set.pack_rows(p.send, true, d, p.shift, out);
+      set.pack_rows(p.send, set.ghost_reals(), set.ghost_u64s(), d, p.shift, out);
       auto in = sendrecv(out, dest, src, kTagGhost + 2 * side, comm, sent_);
       const std::size_t n = in.size() / w, first = set.n_total();
       set.resize(set.n_owned(), first + n);
-      set.unpack_rows(first, n, true, in.data());
+      set.unpack_rows(first, n, set.ghost_reals(), set.ghost_u64s(), in.data());
       p.recv_begin = first;
       p.recv_count = n;
     }
@@ -236,11 +235,11 @@ void ParticleComm::update_ghosts(ParticleSet& set) {
     for (int side = 0; side < 2; ++side) {
       GhostPass& p = plan_[d][side];
       std::vector<double> out;
-      set.pack_rows(p.send, true, d, p.shift, out);
+      set.pack_rows(p.send, set.ghost_reals(), set.ghost_u64s(), d, p.shift, out);
       auto in = sendrecv(out, decomp_.neighbor(d, side), decomp_.neighbor(d, 1 - side),
                          kTagUpdate + 2 * side, comm, sent_);
       if (in.size() != p.recv_count * w) throw std::logic_error("ghost plan out of date");
-      set.unpack_rows(p.recv_begin, p.recv_count, true, in.data());
+      set.unpack_rows(p.recv_begin, p.recv_count, set.ghost_reals(), set.ghost_u64s(), in.data());
     }
 }
 
@@ -250,55 +249,21 @@ void ParticleComm::update_ghosts(ParticleSet& set, const std::vector<int>& reals
   MPI_Comm comm = decomp_.comm();
   int me = 0;
   MPI_Comm_rank(comm, &me);
-  // Columns to send; pos_axis[c] = axis of column c if it is a component of a position-valued
-  // attribute (shifted by a periodic image's offset along that axis), else -1.
-  std::vector<Real*> rcols;
-  std::vector<int> pos_axis;
-  for (int a : reals) {
-    const auto& spec = set.layout().reals()[a];
-    for (int c = 0; c < spec.ncomp; ++c) {
-      rcols.push_back(set.real(a, c));
-      pos_axis.push_back(spec.position ? c : -1);
-    }
-  }
-  std::vector<std::uint64_t*> ucols;
-  for (int a : u64s)
-    for (int c = 0; c < set.layout().u64s()[a].ncomp; ++c) ucols.push_back(set.u64(a, c));
-  const std::size_t nr = rcols.size(), w = nr + ucols.size();
+  const std::size_t w = set.row_width(reals, u64s);
   std::vector<double> out, in;
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
       const GhostPass& p = plan_[d][side];
-      const std::size_t ns = p.send.size(), nrecv = p.recv_count;
-      out.resize(ns * w);
-      in.resize(nrecv * w);
-      for (std::size_t c = 0; c < nr; ++c) {
-        const Real* col = rcols[c];
-        if (pos_axis[c] == d)  // as in the full refresh: the shift is added even when it is 0
-          for (std::size_t k = 0; k < ns; ++k) out[k * w + c] = col[p.send[k]] + p.shift;
-        else
-          for (std::size_t k = 0; k < ns; ++k) out[k * w + c] = col[p.send[k]];
-      }
-      for (std::size_t c = 0; c < ucols.size(); ++c) {
-        const std::uint64_t* col = ucols[c];
-        for (std::size_t k = 0; k < ns; ++k)
-          out[k * w + nr + c] = std::bit_cast<double>(col[p.send[k]]);
-      }
+      out.clear();
+      set.pack_rows(p.send, reals, u64s, d, p.shift, out);
+      in.resize(p.recv_count * w);
       const int dest = decomp_.neighbor(d, side), src = decomp_.neighbor(d, 1 - side);
       if (dest != MPI_PROC_NULL && dest != me)
         sent_.add(static_cast<long long>(out.size() * sizeof(double)));
       MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, dest, kTagPartial + side,
                    in.data(), static_cast<int>(in.size()), MPI_DOUBLE, src, kTagPartial + side,
                    comm, MPI_STATUS_IGNORE);
-      for (std::size_t c = 0; c < nr; ++c) {
-        Real* col = rcols[c] + p.recv_begin;
-        for (std::size_t k = 0; k < nrecv; ++k) col[k] = in[k * w + c];
-      }
-      for (std::size_t c = 0; c < ucols.size(); ++c) {
-        std::uint64_t* col = ucols[c] + p.recv_begin;
-        for (std::size_t k = 0; k < nrecv; ++k)
-          col[k] = std::bit_cast<std::uint64_t>(in[k * w + nr + c]);
-      }
+      set.unpack_rows(p.recv_begin, p.recv_count, reals, u64s, in.data());
     }
 }
 

@@ -51,8 +51,12 @@ ParticleSet::ParticleSet(ParticleLayout layout) : layout_(std::move(layout)) {
       rghost_.push_back(a.ghost);
     }
   }
-  for (std::size_t a = 0; a < layout_.reals().size(); ++a)
+  for (std::size_t a = 0; a < layout_.reals().size(); ++a) {
     if (layout_.reals()[a].position && a != kPos) extra_pos_.push_back(static_cast<int>(a));
+    if (layout_.reals()[a].ghost) ghost_reals_.push_back(static_cast<int>(a));
+  }
+  for (std::size_t a = 0; a < layout_.u64s().size(); ++a)
+    if (layout_.u64s()[a].ghost) ghost_u64s_.push_back(static_cast<int>(a));
   for (const auto& a : layout_.u64s()) {
     ufirst_.push_back(ucol_.size());
     for (int c = 0; c < a.ncomp; ++c) {
@@ -161,48 +165,54 @@ void ParticleSet::unpack(std::size_t i, bool ghost_only, const double* in) {
     if (ghost_only ? ughost_[c] : umig_[c]) ucol_[c][i] = std::bit_cast<std::uint64_t>(*in++);
 }
 
-void ParticleSet::pack_rows(const std::vector<std::size_t>& rows, bool ghost_only, int axis,
-                            Real shift, std::vector<double>& buf) const {
-  const std::size_t w = static_cast<std::size_t>(pack_width(ghost_only)), n = rows.size();
-  const std::size_t at = buf.size();
+std::size_t ParticleSet::row_width(const std::vector<int>& reals,
+                                   const std::vector<int>& u64s) const {
+  std::size_t w = 0;
+  for (int a : reals) w += static_cast<std::size_t>(layout_.reals()[a].ncomp);
+  for (int a : u64s) w += static_cast<std::size_t>(layout_.u64s()[a].ncomp);
+  return w;
+}
+
+void ParticleSet::pack_rows(const std::vector<std::size_t>& rows, const std::vector<int>& reals,
+                            const std::vector<int>& u64s, int axis, Real shift,
+                            std::vector<double>& buf) const {
+  const std::size_t w = row_width(reals, u64s);
+  const std::size_t n = rows.size(), at = buf.size();
   buf.resize(at + n * w);
   double* out = buf.data() + at;
-  std::size_t off = 0;  // the column's place within a packed particle
-  for (std::size_t a = 0; a < layout_.reals().size(); ++a) {
+  std::size_t off = 0;  // the column's place within a row
+  for (int a : reals) {
     const auto& spec = layout_.reals()[a];
-    if (!(ghost_only ? spec.ghost : spec.migrate)) continue;
     for (int c = 0; c < spec.ncomp; ++c, ++off) {
-      const Real* col = rcol_[rfirst_[a] + c].data();
+      const Real* col = real(a, c);
       if (spec.position && c == axis)
         for (std::size_t k = 0; k < n; ++k) out[k * w + off] = col[rows[k]] + shift;
       else
         for (std::size_t k = 0; k < n; ++k) out[k * w + off] = col[rows[k]];
     }
   }
-  for (std::size_t c = 0; c < ucol_.size(); ++c) {
-    if (!(ghost_only ? ughost_[c] : umig_[c])) continue;
-    const std::uint64_t* col = ucol_[c].data();
-    for (std::size_t k = 0; k < n; ++k) out[k * w + off] = std::bit_cast<double>(col[rows[k]]);
-    ++off;
-  }
+  for (int a : u64s)
+    for (int c = 0; c < layout_.u64s()[a].ncomp; ++c, ++off) {
+      const std::uint64_t* col = u64(a, c);
+      for (std::size_t k = 0; k < n; ++k) out[k * w + off] = std::bit_cast<double>(col[rows[k]]);
+    }
 }
 
-void ParticleSet::unpack_rows(std::size_t first, std::size_t count, bool ghost_only,
-                              const double* in) {
-  const std::size_t w = static_cast<std::size_t>(pack_width(ghost_only));
+void ParticleSet::unpack_rows(std::size_t first, std::size_t count, const std::vector<int>& reals,
+                              const std::vector<int>& u64s, const double* in) {
+  const std::size_t w = row_width(reals, u64s);
   std::size_t off = 0;
-  for (std::size_t c = 0; c < rcol_.size(); ++c) {
-    if (!(ghost_only ? rghost_[c] : rmig_[c])) continue;
-    Real* col = rcol_[c].data() + first;
-    for (std::size_t k = 0; k < count; ++k) col[k] = in[k * w + off];
-    ++off;
-  }
-  for (std::size_t c = 0; c < ucol_.size(); ++c) {
-    if (!(ghost_only ? ughost_[c] : umig_[c])) continue;
-    std::uint64_t* col = ucol_[c].data() + first;
-    for (std::size_t k = 0; k < count; ++k) col[k] = std::bit_cast<std::uint64_t>(in[k * w + off]);
-    ++off;
-  }
+  for (int a : reals)
+    for (int c = 0; c < layout_.reals()[a].ncomp; ++c, ++off) {
+      Real* col = real(a, c) + first;
+      for (std::size_t k = 0; k < count; ++k) col[k] = in[k * w + off];
+    }
+  for (int a : u64s)
+    for (int c = 0; c < layout_.u64s()[a].ncomp; ++c, ++off) {
+      std::uint64_t* col = u64(a, c) + first;
+      for (std::size_t k = 0; k < count; ++k)
+        col[k] = std::bit_cast<std::uint64_t>(in[k * w + off]);
+    }
 }
 
 void ParticleSet::append_ghost_copies(const std::vector<std::size_t>& from, int axis, Real shift) {

@@ -125,14 +125,22 @@ class ParticleSet {
   const std::vector<int>& extra_positions() const { return extra_pos_; }
   /// \brief Write one packed particle into slot i (which must exist).
   void unpack(std::size_t i, bool ghost_only, const double* in);
-  /// \brief pack() of the particles `rows` in turn, appended to `buf`, with `shift` added to
-  /// component `axis` of every position-valued attribute packed (as a periodic image is; added
-  /// even when 0, as it is to the packed message). Filled column by column: one pass per column
-  /// instead of a pass over the columns per particle.
-  void pack_rows(const std::vector<std::size_t>& rows, bool ghost_only, int axis, Real shift,
+  /// \brief Pack the real attributes `reals` and then the u64 attributes `u64s` of the particles
+  /// `rows`, particle by particle (one row of their components each), appended to `buf`; `shift`
+  /// is added to component `axis` of every position-valued attribute among them (a periodic
+  /// image's offset; added even when 0). Filled column by column: one pass per column.
+  /// With ghost_reals() and ghost_u64s() a row is what pack(i, true) gives.
+  void pack_rows(const std::vector<std::size_t>& rows, const std::vector<int>& reals,
+                 const std::vector<int>& u64s, int axis, Real shift,
                  std::vector<double>& buf) const;
-  /// \brief unpack() of `count` packed particles into slots [first, first + count).
-  void unpack_rows(std::size_t first, std::size_t count, bool ghost_only, const double* in);
+  /// \brief Doubles in one row of pack_rows() for these attributes.
+  std::size_t row_width(const std::vector<int>& reals, const std::vector<int>& u64s) const;
+  /// \brief The inverse of pack_rows(): `count` rows into slots [first, first + count).
+  void unpack_rows(std::size_t first, std::size_t count, const std::vector<int>& reals,
+                   const std::vector<int>& u64s, const double* in);
+  /// \brief The real / u64 attributes a ghost carries (flagged `ghost`), in layout order.
+  const std::vector<int>& ghost_reals() const { return ghost_reals_; }
+  const std::vector<int>& ghost_u64s() const { return ghost_u64s_; }
   /// \brief Append ghosts copying particles `from` (ghost columns; the others zero), with `shift`
   /// added to component `axis` of every position-valued ghost attribute: the values that
   /// pack(i, true), that shift and unpack() give, without a message (a periodic image held by
@@ -151,7 +159,7 @@ class ParticleSet {
   std::vector<Real> spare_real_;  // reorder_owned's gather target
   std::vector<std::uint64_t> spare_u64_;
   std::vector<char> rmig_, rghost_, umig_, ughost_;  // per column flags
-  std::vector<int> extra_pos_;
+  std::vector<int> extra_pos_, ghost_reals_, ghost_u64s_;
   std::size_t n_owned_ = 0, n_total_ = 0;
 };
 
