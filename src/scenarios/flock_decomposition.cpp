@@ -1,5 +1,6 @@
 // FlockScenario's decomposition: the start of a step (migration, ghosts, cell lists) and the
 // dynamic load balance that moves the cut between ranks (deck keys flock.balance.*, docs/flock.md).
+#include <algorithm>
 #include <cmath>
 
 #include "particles/load_balance.hpp"
@@ -20,9 +21,10 @@ void FlockScenario::begin_step() {
                set_->real(particles::ParticleSet::kPos, 1),
                set_->real(particles::ParticleSet::kPos, 2), set_->u64(particles::ParticleSet::kId),
                n, lo_, radius_, bin_reach_, velocity);
-  eligible_.resize(n);
+  eligible_.resize(n + 8);  // the gather reads 8 flags at a time, past the slots at the end
   const core::GlobalId* ids = cells_.ids();
   for (std::size_t k = 0; k < n; ++k) eligible_[k] = is_prey(ids[k]) && flying(ids[k]);
+  std::fill(eligible_.begin() + n, eligible_.end(), 0);
 }
 
 void FlockScenario::reorder_by_cell() {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include <unistd.h>
@@ -16,12 +17,13 @@ namespace {
 /// \brief Copy the candidates k in the slot ranges `rows` that are eligible and whose squared
 /// distance to the box [lo, hi] is below radius2 from the slot arrays in = (x, y, z, vx, vy, vz)
 /// to out, in order; returns their number. `size`: slots in the arrays (the AVX2 tail reads past
-/// a row's end below it). The outputs need room for the rows' total + 8 entries. One call per bin
-/// (not per row): the broadcasts and the setup are paid once.
+/// a row's end below it); `eligible` has 8 readable bytes past them. The outputs need room for the
+/// rows' total + 8 entries. One call per bin (not per row): the broadcasts and the setup are paid
+/// once.
 /// The box distance is rounded the way the per-boid r2 is (((ex² + ey²) + ez²), each e no larger
 /// than the boid's |d|): rounding is monotonic, so it never exceeds the r2 of any point in the
 /// box, and every candidate that a point of the box can perceive is kept.
-std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligible,
+std::size_t keep_near_box(const double* const in[6], const std::uint8_t* eligible,
                           const std::pair<std::size_t, std::size_t>* rows, std::size_t nrows,
                           [[maybe_unused]] std::size_t size, const Vec3& lo, const Vec3& hi,
                           double radius2, double* const out[6]) {
@@ -43,9 +45,11 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
       const __m512d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
       const __m512d e2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(ex, ex), _mm512_mul_pd(ey, ey)),
                                        _mm512_mul_pd(ez, ez));
-      const __mmask8 m = _mm512_cmp_pd_mask(e2, rr, _CMP_LT_OQ) &
-                         _mm512_mask_test_epi64_mask(tm, _mm512_maskz_loadu_epi64(tm, eligible + k),
-                                                     _mm512_set1_epi64(-1));
+      // Eight flags in one 8-byte load (the array's padding covers the tail), widened to lanes.
+      const __m512i el = _mm512_cvtepu8_epi64(
+          _mm_loadl_epi64(reinterpret_cast<const __m128i*>(eligible + k)));
+      const __mmask8 m =
+          _mm512_cmp_pd_mask(e2, rr, _CMP_LT_OQ) & _mm512_mask_test_epi64_mask(tm, el, el);
       // Register compress, then a plain store (the compress-to-memory form is slow on AMD).
       _mm512_storeu_pd(out[0] + n, _mm512_maskz_compress_pd(m, cx));
       _mm512_storeu_pd(out[1] + n, _mm512_maskz_compress_pd(m, cy));
@@ -80,9 +84,9 @@ std::size_t keep_near_box(const double* const in[6], const std::uint64_t* eligib
     const __m256d ex = gap(cx, lx, hx), ey = gap(cy, ly, hy), ez = gap(cz, lz, hz);
     const __m256d e2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
                                      _mm256_mul_pd(ez, ez));
-    const auto* ep = reinterpret_cast<const long long*>(eligible + k);
-    const __m256i el = masked_loads ? _mm256_maskload_epi64(ep, tm)
-                                    : _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ep));
+    int flags;  // four flags in one 4-byte load (the array's padding covers the tail)
+    std::memcpy(&flags, eligible + k, sizeof flags);
+    const __m256i el = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(flags));
     __m256d m =
         _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(el, _mm256_setzero_si256())),
                          _mm256_cmp_pd(e2, rr, _CMP_LT_OQ));
@@ -125,7 +129,7 @@ long long slab_rows(const particles::OrderedCellList& cells, int reach) {
     const long v = sysconf(_SC_LEVEL2_CACHE_SIZE);
     return v > 0 ? double(v) : 512.0 * 1024;  // not reported (some VMs, other libcs)
   }();
-  constexpr double kBytesPerPoint = 7 * 8;  // x, y, z, vx, vy, vz, eligibility
+  constexpr double kBytesPerPoint = 6 * 8 + 1;  // x, y, z, vx, vy, vz, eligibility
   const double points_per_bin =
       double(cells.size()) / double(std::max<std::size_t>(cells.bins(), 1));
   const double row_bytes =
@@ -136,7 +140,7 @@ long long slab_rows(const particles::OrderedCellList& cells, int reach) {
 
 void BinNeighbours::gather(const particles::OrderedCellList& cells, std::size_t first,
                            std::size_t last, const double* vx, const double* vy, const double* vz,
-                           const std::uint64_t* eligible, double radius2) {
+                           const std::uint8_t* eligible, double radius2) {
   const double *X = cells.x(), *Y = cells.y(), *Z = cells.z();
   const double* const in[6] = {X, Y, Z, vx, vy, vz};
   Vec3 lo{X[first], Y[first], Z[first]}, hi = lo;

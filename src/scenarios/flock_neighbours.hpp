@@ -28,10 +28,10 @@ long long slab_rows(const particles::OrderedCellList& cells, int reach);
 class BinNeighbours {
  public:
   /// \brief Gather the candidates of the bin holding slots [first, last) of `cells` (slot-ordered
-  /// velocities vx, vy, vz and eligibility flags), keeping those that may lie within `radius2`
-  /// of a point of the bin.
+  /// velocities vx, vy, vz and eligibility flags, 0 or 1, with 8 readable bytes past the slots),
+  /// keeping those that may lie within `radius2` of a point of the bin.
   void gather(const particles::OrderedCellList& cells, std::size_t first, std::size_t last,
-              const double* vx, const double* vy, const double* vz, const std::uint64_t* eligible,
+              const double* vx, const double* vy, const double* vz, const std::uint8_t* eligible,
               double radius2);
 
   /// \brief The kAverage sums (separation, velocity, position, count; no nearest neighbour) of
