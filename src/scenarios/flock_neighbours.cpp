@@ -46,8 +46,8 @@ std::size_t keep_near_box(const double* const in[6], const std::uint8_t* eligibl
       const __m512d e2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(ex, ex), _mm512_mul_pd(ey, ey)),
                                        _mm512_mul_pd(ez, ez));
       // Eight flags in one 8-byte load (the array's padding covers the tail), widened to lanes.
-      const __m512i el = _mm512_cvtepu8_epi64(
-          _mm_loadl_epi64(reinterpret_cast<const __m128i*>(eligible + k)));
+      const __m512i el =
+          _mm512_cvtepu8_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(eligible + k)));
       const __mmask8 m =
           _mm512_cmp_pd_mask(e2, rr, _CMP_LT_OQ) & _mm512_mask_test_epi64_mask(tm, el, el);
       // Register compress, then a plain store (the compress-to-memory form is slow on AMD).
