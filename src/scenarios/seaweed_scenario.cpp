@@ -191,6 +191,7 @@ std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
   const grid::Decomposition even(ctx_.comm, params.cells, params.periodic(), dims);
   io::CheckpointReader reader(even, ctx_.restart_path);
   restart_rows_ = reader.read_rows_share("seaweed_particles", restart_width_);
+  mp::convert_legacy_seaweed_rows(restart_rows_, restart_width_, ctx_.restart_path, ctx_.comm);
   restart_rows_read_ = true;
   particles::ParticleSet set(mp::seaweed_layout());
   if (restart_width_ != set.pack_width(false))
@@ -428,8 +429,10 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
   if (path == ctx_.restart_path && restart_rows_read_) {  // the same on every rank
     rows.swap(restart_rows_);
     restart_rows_read_ = false;
-  } else
+  } else {
     rows = r.read_rows_share("seaweed_particles", width);
+    mp::convert_legacy_seaweed_rows(rows, width, path, decomp_->comm());
+  }
   auto& s = bodies_->set();
   if (width != s.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
   const std::size_t n = rows.size() / width;

@@ -62,9 +62,13 @@ inline Real atan_over_z(Real z2) {
 }  // namespace
 
 void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k, Real bend_c) {
-  V rc, rp;
+  // The parent's anchor 0 - ac: what (x - x_parent) / 2 was at build, bit for bit, as the
+  // child's was (x_parent - x) / 2 (a - b = -(b - a) exactly, and 0 - (+0) = +0).
+  V ap, rc, rp;
+  for (int l = 0; l < B; ++l)
+    ap.x[l] = 0.0 - b.ac.x[l], ap.y[l] = 0.0 - b.ac.y[l], ap.z[l] = 0.0 - b.ac.z[l];
   rotate(b.qc, b.ac, rc);
-  rotate(b.qp, b.ap, rp);
+  rotate(b.qp, ap, rp);
   // Stretch spring-damper at the anchor: F = gap k + (v_p - v_c) c on the child, with the anchor
   // velocities v + cross(w, r) and gap = (x_p + r_p) - (x_c + r_c).
   for (int l = 0; l < B; ++l) {
@@ -81,13 +85,12 @@ void evaluate_joint_block(JointBlock& b, Real joint_k, Real joint_c, Real bend_k
     b.F.y[l] = gy * joint_k + (vpy - vcy) * joint_c;
     b.F.z[l] = gz * joint_k + (vpz - vcz) * joint_c;
   }
-  // Relative rotation q_p^* q_c q_r^* and its rotation vector (Quat::rotation_vector: the
-  // hemisphere w >= 0, angle 2 atan2(s, w), axis * angle; the small-angle branch 2 (x, y, z)).
-  Q cp, cr, t1, rel;
+  // Relative rotation q_p^* q_c (the rest relative orientation is the identity) and its rotation
+  // vector (Quat::rotation_vector: the hemisphere w >= 0, angle 2 atan2(s, w), axis * angle; the
+  // small-angle branch 2 (x, y, z)).
+  Q cp, rel;
   conj(b.qp, cp);
-  conj(b.qr, cr);
-  mul(cp, b.qc, t1);
-  mul(t1, cr, rel);
+  mul(cp, b.qc, rel);
   // The hemisphere flip as selects and sqrt without errno (this file is built with
   // -fno-math-errno), so both loops vectorise.
   Real s[B];

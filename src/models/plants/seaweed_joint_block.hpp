@@ -30,10 +30,11 @@ struct JointBlock {
   struct Q {
     Lane w, x, y, z;
   };
-  // Inputs: orientations, rest anchors (child frame of each sphere), positions, velocities,
-  // angular velocities of child and parent, and the rest relative orientation.
-  Q qc, qp, qr;
-  V ac, ap, xc, xp, vc, vp, wc, wp;
+  // Inputs: orientations, the child's rest anchor (in its frame; the parent's is 0 - ac in the
+  // parent's frame), positions, velocities, angular velocities of child and parent. The rest
+  // relative orientation is the identity (seaweed_layout()).
+  Q qc, qp;
+  V ac, xc, xp, vc, vp, wc, wp;
   // Outputs: force on the child F, rotational torque on the child T, the child's total torque
   // cross(r_c, F) + T, the parent's cross(r_p, -F) - T (its force is -F), and |F|, |T|.
   V F, T, tc, tp;

@@ -19,7 +19,6 @@ SeaweedBodies::SeaweedBodies(particles::ParticleComm& comm, MechanicsParams para
   a_vel = L.find_real("v"), a_quat = L.find_real("q"), a_omega = L.find_real("omega");
   a_force = L.find_real("force"), a_torque = L.find_real("torque"), a_uf = L.find_real("u_fluid");
   a_imp = L.find_real("drag_impulse"), a_anchor_c = L.find_real("anchor_child");
-  a_anchor_p = L.find_real("anchor_parent"), a_qrest = L.find_real("q_rest");
   a_jforce = L.find_real("joint_force"), a_jtorque = L.find_real("joint_torque");
   a_radius = L.find_real("radius");
   a_xs = L.find_real("x_sample");
@@ -98,16 +97,15 @@ void SeaweedBodies::build(const Population& pop, int n_plants) {
         if (comm_.owner_of(x) != me) return;
         const std::size_t i = set_.add_owned(id, x);
         set_q(set_, a_quat, i, {});
-        set_q(set_, a_qrest, i, {});
         set_.real(a_radius)[i] = p_.radius;
         set_.u64(u_plant)[i] = static_cast<std::uint64_t>(plant);
         set_.u64(u_parent)[i] = parent;
         if (parent != kNoId) {
           longest_bond_local_ = std::max(longest_bond_local_, core::norm(x - parent_x));
-          // Joint anchor at the midpoint; all spheres start with the identity
-          // orientation.
+          // Joint anchor at the midpoint; all spheres start with the identity orientation, so
+          // the rest relative orientation is the identity and the parent's anchor, (x -
+          // parent_x) * 0.5, is 0 - anchor_child bit for bit (seaweed_joint_block.hpp).
           set_.set_vec3(a_anchor_c, i, (parent_x - x) * 0.5);
-          set_.set_vec3(a_anchor_p, i, (x - parent_x) * 0.5);
         }
       });
 }

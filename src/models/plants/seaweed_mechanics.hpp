@@ -6,7 +6,7 @@
 /// sphere-sphere contacts with Coulomb-capped viscous friction. Explicit symplectic sub-steps.
 ///
 /// Parallel: spheres live in a particles::ParticleSet; a joint is stored on its child sphere (the
-/// parent's global id, rest anchors, rest orientation; these travel with ghosts). Every joint and
+/// parent's global id and the rest anchor; these travel with ghosts). Every joint and
 /// contact touching an owned sphere is evaluated by each rank owning one of its two spheres, with
 /// identical inputs, and each rank adds it only to its own spheres, summing the interactions of a
 /// sphere in a fixed order: body forces, its joints, then its contacts, each group by partner
@@ -20,6 +20,7 @@
 /// ghost refreshes at the start and end of a step, sub-steps refresh only the changing state.
 #include <functional>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -118,8 +119,8 @@ class SeaweedBodies {
   const MechanicsParams& params() const { return p_; }
 
   // Attribute handles.
-  int a_vel, a_quat, a_omega, a_force, a_torque, a_uf, a_imp, a_anchor_c, a_anchor_p, a_qrest,
-      a_jforce, a_jtorque, a_radius, a_xs;
+  int a_vel, a_quat, a_omega, a_force, a_torque, a_uf, a_imp, a_anchor_c, a_jforce, a_jtorque,
+      a_radius, a_xs;
   int u_plant, u_parent;
 
  private:
@@ -203,5 +204,14 @@ class SeaweedBodies {
 
 /// \brief Build the layout of a seaweed sphere set (shared with output/checkpoint code).
 particles::ParticleLayout seaweed_layout();
+
+/// \brief Checkpoint rows (migrating columns, width values each) of the layout before the parent
+/// anchor and the rest orientation left it (issue 11, session 31): 7 values more, after
+/// anchor_child. Converts them in place to seaweed_layout() and sets `width`; other rows are left
+/// alone. Collective over `comm` (each rank converts its share): every rank throws
+/// core::InputError naming `path` if a dropped value is not the one the model implies (0 -
+/// anchor_child, the identity).
+void convert_legacy_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
+                                 MPI_Comm comm);
 
 }  // namespace biota::models::plants

@@ -1,9 +1,14 @@
 /// \file seaweed_params.cpp
 /// \brief Deck keys, derived quantities and the particle layout of the seaweed bodies (split from
 /// seaweed_mechanics.cpp, which holds the dynamics).
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <numbers>
+#include <string>
 
+#include "core/error.hpp"
 #include "models/plants/seaweed_mechanics.hpp"
 
 namespace biota::models::plants {
@@ -99,9 +104,10 @@ particles::ParticleLayout seaweed_layout() {
   // every rank owning one of its spheres, and spreading reads ghosts' impulses (decomposition
   // invariance, see begin_step).
   l.add_real("drag_impulse", 3, true, true);
+  // A joint's anchor in its child's frame. Its parent's anchor is the mirror, 0 - anchor_child,
+  // and its rest relative orientation the identity: every sphere is built with the identity
+  // orientation at the midpoint anchor (SeaweedBodies::build), so neither is stored.
   l.add_real("anchor_child", 3, true, true);
-  l.add_real("anchor_parent", 3, true, true);
-  l.add_real("q_rest", 4, true, true);
   l.add_position("x_sample", true, true);  // shifted with periodic images (spreading point)
   l.add_real("joint_force", 1, true, false);
   l.add_real("joint_torque", 1, true, false);
@@ -109,6 +115,43 @@ particles::ParticleLayout seaweed_layout() {
   l.add_u64("plant", 1, true, true);
   l.add_u64("parent", 1, true, true);
   return l;
+}
+
+void convert_legacy_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
+                                 MPI_Comm comm) {
+  const particles::ParticleLayout layout = seaweed_layout();
+  int current = 0, anchor_end = 0;
+  for (const auto& a : layout.reals())
+    if (a.migrate) {
+      current += a.ncomp;
+      if (a.name == "anchor_child") anchor_end = current;
+    }
+  for (const auto& a : layout.u64s())
+    if (a.migrate) current += a.ncomp;
+  constexpr int kDropped = 7;               // anchor_parent (3), q_rest (4)
+  if (width != current + kDropped) return;  // the same on every rank: the dataset's width
+  const std::size_t n = rows.size() / static_cast<std::size_t>(width);
+  long long odd = 0;  // rows whose dropped values are not the implied ones
+  for (std::size_t r = 0; r < n; ++r) {
+    const double* in = rows.data() + r * static_cast<std::size_t>(width);
+    const double* dropped = in + anchor_end;
+    bool implied = dropped[3] == 1 && dropped[4] == 0 && dropped[5] == 0 && dropped[6] == 0;
+    for (int d = 0; d < 3; ++d)
+      implied = implied && std::bit_cast<std::uint64_t>(dropped[d]) ==
+                               std::bit_cast<std::uint64_t>(0.0 - in[anchor_end - 3 + d]);
+    odd += implied ? 0 : 1;
+    double* out = rows.data() + r * static_cast<std::size_t>(current);  // out <= in: in place
+    std::memmove(out, in, sizeof(double) * static_cast<std::size_t>(anchor_end));
+    std::memmove(out + anchor_end, dropped + kDropped,
+                 sizeof(double) * static_cast<std::size_t>(current - anchor_end));
+  }
+  rows.resize(n * static_cast<std::size_t>(current));
+  width = current;
+  MPI_Allreduce(MPI_IN_PLACE, &odd, 1, MPI_LONG_LONG, MPI_SUM, comm);  // every rank throws alike
+  if (odd > 0)
+    throw core::InputError(path + ": " + std::to_string(odd) +
+                           " seaweed_particles rows have a parent anchor other than the mirror of "
+                           "the child anchor or a rest orientation other than the identity");
 }
 
 }  // namespace biota::models::plants

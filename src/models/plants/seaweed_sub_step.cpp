@@ -199,14 +199,12 @@ void SeaweedBodies::block_forces(const SphereBlock& blk, Real dt_sub) {
   // the arithmetic is the same expression for expression, so the results are bitwise unchanged.
   const ParticleSet& cs = set_;
   const Col3 x = cols3(cs, ParticleSet::kPos), v = cols3(cs, a_vel), w = cols3(cs, a_omega),
-             ac = cols3(cs, a_anchor_c), ap = cols3(cs, a_anchor_p), uf = cols3(cs, a_uf);
+             ac = cols3(cs, a_anchor_c), uf = cols3(cs, a_uf);
   Real *fx = set_.real(a_force, 0), *fy = set_.real(a_force, 1), *fz = set_.real(a_force, 2);
   Real *tx = set_.real(a_torque, 0), *ty = set_.real(a_torque, 1), *tz = set_.real(a_torque, 2);
   Real *ix = set_.real(a_imp, 0), *iy = set_.real(a_imp, 1), *iz = set_.real(a_imp, 2);
   const Real *qw = set_.real(a_quat, 0), *qx = set_.real(a_quat, 1), *qy = set_.real(a_quat, 2),
              *qz = set_.real(a_quat, 3);
-  const Real *rw = set_.real(a_qrest, 0), *rx = set_.real(a_qrest, 1), *ry = set_.real(a_qrest, 2),
-             *rz = set_.real(a_qrest, 3);
   const std::uint64_t* parent = set_.u64(u_parent);
   Real *jforce = set_.real(a_jforce), *jtorque = set_.real(a_jtorque);
   // The sum on each owned sphere: body forces, then its joints, then its contacts, each group
@@ -248,11 +246,10 @@ void SeaweedBodies::block_forces(const SphereBlock& blk, Real dt_sub) {
   // The child inputs of a block: the lane each is copied to, and its column. The gather copies
   // them; the joint loop prefetches the columns ahead of it.
   const std::pair<Real*, const Real*> child_inputs[] = {
-      {jb.qc.w, qw},    {jb.qc.x, qx},    {jb.qc.y, qy},    {jb.qc.z, qz},    {jb.qr.w, rw},
-      {jb.qr.x, rx},    {jb.qr.y, ry},    {jb.qr.z, rz},    {jb.ac.x, ac.c0}, {jb.ac.y, ac.c1},
-      {jb.ac.z, ac.c2}, {jb.ap.x, ap.c0}, {jb.ap.y, ap.c1}, {jb.ap.z, ap.c2}, {jb.xc.x, x.c0},
-      {jb.xc.y, x.c1},  {jb.xc.z, x.c2},  {jb.vc.x, v.c0},  {jb.vc.y, v.c1},  {jb.vc.z, v.c2},
-      {jb.wc.x, w.c0},  {jb.wc.y, w.c1},  {jb.wc.z, w.c2}};
+      {jb.qc.w, qw},    {jb.qc.x, qx},    {jb.qc.y, qy},    {jb.qc.z, qz},
+      {jb.ac.x, ac.c0}, {jb.ac.y, ac.c1}, {jb.ac.z, ac.c2}, {jb.xc.x, x.c0},
+      {jb.xc.y, x.c1},  {jb.xc.z, x.c2},  {jb.vc.x, v.c0},  {jb.vc.y, v.c1},
+      {jb.vc.z, v.c2},  {jb.wc.x, w.c0},  {jb.wc.y, w.c1},  {jb.wc.z, w.c2}};
   // Lanes are filled one input at a time by gather_lane (one vector gather and store, so the
   // law's vector loads find whole stores). A parent's inputs come from its record: `hot_reals`
   // is the offset of the record of slot pj[l], and the field's offset in it is added to the
@@ -277,7 +274,7 @@ void SeaweedBodies::block_forces(const SphereBlock& blk, Real dt_sub) {
   };
   constexpr std::size_t kHotReals = sizeof(Hot) / sizeof(Real);
   static_assert(sizeof(Hot) % sizeof(Real) == 0);
-  // The 23 child columns are prefetched kPrefetchJoints joints ahead: the hardware prefetchers
+  // The 16 child columns are prefetched kPrefetchJoints joints ahead: the hardware prefetchers
   // do not keep that many streams ahead, and the gather stalled on their loads
   // (docs/performance-seaweed.md, session 24: the particle step 0.82-0.88x in one process).
   constexpr std::size_t kPrefetchJoints = 4 * kJointBlock;

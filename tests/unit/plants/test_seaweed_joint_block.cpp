@@ -10,7 +10,7 @@ using biota::core::Quat;
 using biota::core::Vec3;
 using namespace biota::models::plants;
 
-// Bend torque of a joint whose child is turned by `angle` about a fixed axis (parent and rest
+// Bend torque of a joint whose child is turned by `angle` about a fixed axis (parent
 // orientation the identity, nothing moving, bend_k = 1): T = -rotation vector. The block takes
 // the angle from a series below 11 degrees and from libm above; both must give
 // Quat::rotation_vector (libm) to round-off.
@@ -22,7 +22,7 @@ TEST(SeaweedJointBlock, BendTorqueIsTheRotationVectorAcrossTheSeriesBound) {
       const double a = angle * (1 + 0.01 * l);
       const Quat qc = Quat::axis_angle(axis, a);
       b.qc.w[l] = qc.w, b.qc.x[l] = qc.x, b.qc.y[l] = qc.y, b.qc.z[l] = qc.z;
-      b.qp.w[l] = b.qr.w[l] = 1;
+      b.qp.w[l] = 1;
     }
     evaluate_joint_block(b, 1.0, 0.0, 1.0, 0.0);
     for (int l = 0; l < kJointBlock; ++l) {
