@@ -195,7 +195,9 @@ std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
   restart_rows_read_ = true;
   particles::ParticleSet set(mp::seaweed_layout());
   if (restart_width_ != set.pack_width(false))
-    throw core::InputError("checkpoint particle layout differs");
+    throw core::InputError(fmt::format(
+        "{}: seaweed_particles rows have {} values; this version reads {} (another layout)",
+        ctx_.restart_path, restart_width_, set.pack_width(false)));
   const std::size_t n = restart_rows_.size() / restart_width_;
   set.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -434,7 +436,10 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
     mp::convert_legacy_seaweed_rows(rows, width, path, decomp_->comm());
   }
   auto& s = bodies_->set();
-  if (width != s.pack_width(false)) throw core::InputError("checkpoint particle layout differs");
+  if (width != s.pack_width(false))
+    throw core::InputError(fmt::format(
+        "{}: seaweed_particles rows have {} values; this version reads {} (another layout)", path,
+        width, s.pack_width(false)));
   const std::size_t n = rows.size() / width;
   s.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) s.unpack(k, false, rows.data() + k * width);
