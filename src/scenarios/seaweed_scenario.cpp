@@ -191,13 +191,9 @@ std::array<std::vector<double>, 3> SeaweedScenario::spheres_per_plane(
   const grid::Decomposition even(ctx_.comm, params.cells, params.periodic(), dims);
   io::CheckpointReader reader(even, ctx_.restart_path);
   restart_rows_ = reader.read_rows_share("seaweed_particles", restart_width_);
-  mp::convert_legacy_seaweed_rows(restart_rows_, restart_width_, ctx_.restart_path, ctx_.comm);
+  mp::to_current_seaweed_rows(restart_rows_, restart_width_, ctx_.restart_path, ctx_.comm);
   restart_rows_read_ = true;
   particles::ParticleSet set(mp::seaweed_layout());
-  if (restart_width_ != set.pack_width(false))
-    throw core::InputError(fmt::format(
-        "{}: seaweed_particles rows have {} values; this version reads {} (another layout)",
-        ctx_.restart_path, restart_width_, set.pack_width(false)));
   const std::size_t n = restart_rows_.size() / restart_width_;
   set.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -433,13 +429,9 @@ void SeaweedScenario::read_checkpoint(const std::string& path) {
     restart_rows_read_ = false;
   } else {
     rows = r.read_rows_share("seaweed_particles", width);
-    mp::convert_legacy_seaweed_rows(rows, width, path, decomp_->comm());
+    mp::to_current_seaweed_rows(rows, width, path, decomp_->comm());
   }
   auto& s = bodies_->set();
-  if (width != s.pack_width(false))
-    throw core::InputError(fmt::format(
-        "{}: seaweed_particles rows have {} values; this version reads {} (another layout)", path,
-        width, s.pack_width(false)));
   const std::size_t n = rows.size() / width;
   s.resize(n, n);
   for (std::size_t k = 0; k < n; ++k) s.unpack(k, false, rows.data() + k * width);

@@ -205,13 +205,13 @@ class SeaweedBodies {
 /// \brief Build the layout of a seaweed sphere set (shared with output/checkpoint code).
 particles::ParticleLayout seaweed_layout();
 
-/// \brief Checkpoint rows (migrating columns, width values each) of the layout before the parent
-/// anchor and the rest orientation left it (issue 11, session 31): 7 values more, after
-/// anchor_child. Converts them in place to seaweed_layout() and sets `width`; other rows are left
-/// alone. Collective over `comm` (each rank converts its share): every rank throws
-/// core::InputError naming `path` if a dropped value is not the one the model implies (0 -
+/// \brief Checkpoint rows (migrating columns, `width` values each, this rank's share) in the
+/// layout of seaweed_layout(). Rows of the layout before the parent anchor and the rest
+/// orientation left it (issue 11, session 31: 7 values more, after anchor_child) are converted in
+/// place and `width` set. Every rank throws core::InputError naming `path` for any other width,
+/// or (collective over `comm`) if a dropped value is not the one the model implies (0 -
 /// anchor_child, the identity).
-void convert_legacy_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
-                                 MPI_Comm comm);
+void to_current_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
+                             MPI_Comm comm);
 
 }  // namespace biota::models::plants

@@ -1,7 +1,9 @@
 /// \file seaweed_params.cpp
 /// \brief Deck keys, derived quantities and the particle layout of the seaweed bodies (split from
 /// seaweed_mechanics.cpp, which holds the dynamics).
+#include <fmt/format.h>
 #include <bit>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -117,19 +119,23 @@ particles::ParticleLayout seaweed_layout() {
   return l;
 }
 
-void convert_legacy_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
-                                 MPI_Comm comm) {
-  const particles::ParticleLayout layout = seaweed_layout();
-  int current = 0, anchor_end = 0;
-  for (const auto& a : layout.reals())
+void to_current_seaweed_rows(std::vector<double>& rows, int& width, const std::string& path,
+                             MPI_Comm comm) {
+  const particles::ParticleSet set(seaweed_layout());
+  const int current = set.pack_width(false);
+  constexpr int kDropped = 7;  // anchor_parent (3), q_rest (4)
+  // The width is the dataset's, the same on every rank: every rank returns or throws alike.
+  if (width == current) return;
+  if (width != current + kDropped)
+    throw core::InputError(fmt::format(
+        "{}: seaweed_particles rows have {} values; this version reads {} (another layout)", path,
+        width, current));
+  int anchor_end = 0;  // one past anchor_child in a row (the migrating columns in layout order)
+  for (const auto& a : set.layout().reals())
     if (a.migrate) {
-      current += a.ncomp;
-      if (a.name == "anchor_child") anchor_end = current;
+      anchor_end += a.ncomp;
+      if (a.name == "anchor_child") break;
     }
-  for (const auto& a : layout.u64s())
-    if (a.migrate) current += a.ncomp;
-  constexpr int kDropped = 7;               // anchor_parent (3), q_rest (4)
-  if (width != current + kDropped) return;  // the same on every rank: the dataset's width
   const std::size_t n = rows.size() / static_cast<std::size_t>(width);
   long long odd = 0;  // rows whose dropped values are not the implied ones
   for (std::size_t r = 0; r < n; ++r) {

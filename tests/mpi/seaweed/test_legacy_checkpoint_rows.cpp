@@ -1,6 +1,6 @@
 /// \file test_legacy_checkpoint_rows.cpp
 /// \brief Seaweed checkpoints written before the parent anchor and the rest orientation left the
-/// particle layout (issue 11, session 31) still restart: convert_legacy_seaweed_rows() maps their
+/// particle layout (issue 11, session 31) still restart: to_current_seaweed_rows() maps their
 /// rows onto the current layout column by column, and refuses, on every rank alike, rows whose
 /// dropped values are not the ones the model implies (0 - anchor_child, the identity).
 #include <gtest/gtest.h>
@@ -19,6 +19,8 @@ using namespace biota::models::plants;
 namespace {
 
 /// The layout as it was: seaweed_layout() with anchor_parent and q_rest after anchor_child.
+/// Written out, not derived from seaweed_layout(): it is the format on users' disks, so a column
+/// added to the current layout later must make this test fail, not move the old format along.
 particles::ParticleLayout legacy_layout() {
   particles::ParticleLayout l;
   l.add_real("v", 3, true, true);
@@ -84,14 +86,14 @@ TEST(LegacySeaweedRows, MapOntoTheCurrentLayoutColumnByColumn) {
   std::vector<double> rows = rows_of(old_set);
   int width = old_set.pack_width(false);
   ASSERT_EQ(width, new_set.pack_width(false) + 7);
-  convert_legacy_seaweed_rows(rows, width, "old.h5", MPI_COMM_WORLD);
+  to_current_seaweed_rows(rows, width, "old.h5", MPI_COMM_WORLD);
   EXPECT_EQ(width, new_set.pack_width(false));
   const std::vector<double> expected = rows_of(new_set);
   ASSERT_EQ(rows.size(), expected.size());
   for (std::size_t k = 0; k < rows.size(); ++k) EXPECT_EQ(rows[k], expected[k]) << k;
   // Rows of the current layout are left alone.
   std::vector<double> current = expected;
-  convert_legacy_seaweed_rows(current, width, "new.h5", MPI_COMM_WORLD);
+  to_current_seaweed_rows(current, width, "new.h5", MPI_COMM_WORLD);
   EXPECT_EQ(current, expected);
 }
 
@@ -104,10 +106,24 @@ TEST(LegacySeaweedRows, RefuseAnotherRestOrientationOnEveryRank) {
   std::vector<double> rows = rows_of(old_set);
   int width = old_set.pack_width(false);
   try {
-    convert_legacy_seaweed_rows(rows, width, "old.h5", MPI_COMM_WORLD);
+    to_current_seaweed_rows(rows, width, "old.h5", MPI_COMM_WORLD);
     FAIL() << "no error on rank " << rank;
   } catch (const core::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("old.h5: 1 seaweed_particles rows"), std::string::npos)
         << e.what();
+  }
+}
+
+TEST(LegacySeaweedRows, RefuseAnyOtherWidthNamingTheFile) {
+  const int current = particles::ParticleSet(seaweed_layout()).pack_width(false);
+  int width = current + 3;
+  std::vector<double> rows(2 * static_cast<std::size_t>(width), 0.0);
+  try {
+    to_current_seaweed_rows(rows, width, "other.h5", MPI_COMM_WORLD);
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "other.h5: seaweed_particles rows have " + std::to_string(current + 3) +
+                  " values; this version reads " + std::to_string(current) + " (another layout)");
   }
 }
