@@ -31,4 +31,6 @@ run mpiexec -n 2 build/biota_bench_wind --size 100 --steps 3 --compare
 if [ -x build-v3/biota ]; then run build-v3/biota bench flock --boids 100000 --steps 10; fi
 run jobs/seaweed-experiment.sh
 for c in 1 3 5; do stamp "timers c$c"; tail -30 out/seaweed_c$c.log | tee -a $log; done
+# The seaweed's cost per sphere in 1x, 3x and 10x larger tanks (grows the cases once, ~10 minutes).
+run jobs/seaweed-weak-scaling.sh
 stamp done
