@@ -3,22 +3,17 @@
 # jobs/build.sh (and, for the portable flock figure, a build-v3: -DBIOTA_NATIVE=OFF
 # -DCMAKE_CXX_FLAGS=-march=x86-64-v3). Log with the load at each start: /tmp/final-bench.log.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 source jobs/mpi-env.sh
 log=/tmp/final-bench.log
 stamp() { echo "=== $(date -u +%H:%M:%S) load: $(cut -d' ' -f1-3 /proc/loadavg) :: $*" | tee -a $log; }
-# The 1-minute load lags: after a 2-rank run it stays near 2 for a minute, and a benchmark started
-# then cannot be told from one that shared the cores (the log shows the load at each start). Every
-# benchmark waits, at most 5 minutes, until the load is below 1.0.
-wait_idle() {
-  local waited=0
-  while awk '{exit !($1 >= 1.0)}' /proc/loadavg && [ $waited -lt 300 ]; do
-    sleep 10
-    waited=$((waited + 10))
-  done
-  [ $waited -eq 0 ] || echo "(waited ${waited} s for the 1-minute load to fall below 1.0)" | tee -a $log
+# Every benchmark waits for the load to fall (the log shows the load at each start).
+source jobs/wait-idle.sh
+run() {
+  wait_idle | tee -a $log
+  stamp "$*"
+  "$@" 2>&1 | tee -a $log
 }
-run() { wait_idle; stamp "$*"; "$@" 2>&1 | tee -a $log; }
 run mpirun -np 1 ./build/biota bench lbm
 run mpirun -np 2 ./build/biota bench lbm
 run ./build/biota bench flock --boids 100000 --steps 10
@@ -33,4 +28,4 @@ run jobs/seaweed-experiment.sh
 for c in 1 3 5; do stamp "timers c$c"; tail -30 out/seaweed_c$c.log | tee -a $log; done
 # The seaweed's cost per sphere in 1x, 3x and 10x larger tanks (grows the cases once, ~10 minutes).
 run jobs/seaweed-weak-scaling.sh
-stamp done
+stamp "done"

@@ -41,15 +41,15 @@ scaled_args() {
     --set "lbm.outlet.center=[$c]" --set "lbm.outlet.r_min=$rmin")
 }
 
-wait_idle() {
-  local waited=0
-  while awk '{exit !($1 >= 1.0)}' /proc/loadavg && [ $waited -lt 300 ]; do
-    sleep 5
-    waited=$((waited + 5))
-  done
-}
+source jobs/wait-idle.sh
 
-for k in $sizes; do scaled_args "$k"; done # refuse an unknown size before any run
+# Refuse nonsense before any run.
+for v in ranks rounds; do
+  [[ ${!v} =~ ^[1-9][0-9]*$ ]] ||
+    { echo "seaweed-weak-scaling: $v = '${!v}' is not a positive integer" >&2; exit 2; }
+done
+[ -n "${sizes// /}" ] || { echo "seaweed-weak-scaling: sizes is empty; allowed: 1, 3, 10, 30" >&2; exit 2; }
+for k in $sizes; do scaled_args "$k"; done
 common=(input/seaweed.toml --set growth.cycles=3 --set output.interval=1000000)
 for k in $sizes; do
   ckpt=$base/${k}x/checkpoints/seaweed_00000090.h5
@@ -65,7 +65,7 @@ results=$base/results.txt
 : >"$results"
 for round in $(seq "$rounds"); do
   for k in $sizes; do
-    wait_idle
+    wait_idle >/dev/null
     load=$(cut -d' ' -f1 /proc/loadavg)
     log=$base/${k}x_window.log
     scaled_args "$k"

@@ -2,8 +2,8 @@
 /// \brief Deck keys, derived quantities and the particle layout of the seaweed bodies (split from
 /// seaweed_mechanics.cpp, which holds the dynamics).
 #include <fmt/format.h>
-#include <bit>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
