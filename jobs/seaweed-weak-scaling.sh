@@ -6,7 +6,7 @@
 #
 # Each size first grows to t = 1.5 s once (the checkpoint is kept in out/weak_scaling/<k>x and
 # reused by later calls). Then the window t = 1.5 to 2.0 s (30 physics steps, a settled state) is
-# restarted from it, in rounds that interleave the sizes; each run waits until the 1-minute load is
+# restarted from it (the window's steps read from its log), in rounds that interleave the sizes; each run waits until the 1-minute load is
 # below 1.0. Printed per run and as medians: the slowest rank's particles timer per sphere and
 # physics step, and its ratio to the first size's median.
 #
@@ -51,14 +51,19 @@ done
 [ -n "${sizes// /}" ] || { echo "seaweed-weak-scaling: sizes is empty; allowed: 1, 3, 10, 30" >&2; exit 2; }
 for k in $sizes; do scaled_args "$k"; done
 common=(input/seaweed.toml --set growth.cycles=3 --set output.interval=1000000)
+# The grown case's checkpoint: the newest in its directory (the run's final one, at t = 1.5 s).
+grown() {
+  local f newest=""
+  for f in "$base/${1}x/checkpoints"/seaweed_*.h5; do [ -e "$f" ] && newest=$f; done
+  echo "$newest"
+}
 for k in $sizes; do
-  ckpt=$base/${k}x/checkpoints/seaweed_00000090.h5
-  [ -f "$ckpt" ] && continue
+  [ -n "$(grown "$k")" ] && continue
   echo "growing the ${k}x case to t = 1.5 s (log $base/${k}x.log)"
   scaled_args "$k"
   mpirun -np "$ranks" ./build/biota run "${common[@]}" --set run.end_time=1.5 \
     --set "output.dir=$base/${k}x" "${scaled[@]}" >"$base/${k}x.log" 2>&1 ||
-    { echo "growing the ${k}x case failed: see $base/${k}x.log"; exit 1; }
+    { echo "growing the ${k}x case failed: see $base/${k}x.log" >&2; exit 1; }
 done
 
 results=$base/results.txt
@@ -70,13 +75,17 @@ for round in $(seq "$rounds"); do
     log=$base/${k}x_window.log
     scaled_args "$k"
     mpirun -np "$ranks" ./build/biota run "${common[@]}" --set run.end_time=2.0 \
-      --restart "$base/${k}x/checkpoints/seaweed_00000090.h5" --set "output.dir=$base/${k}x_window" \
+      --restart "$(grown "$k")" --set "output.dir=$base/${k}x_window" \
       --set "checkpoint.dir=$base/${k}x_window/checkpoints" "${scaled[@]}" >"$log" 2>&1 ||
-      { echo "the ${k}x window failed: see $log"; exit 1; }
+      { echo "the ${k}x window failed: see $log" >&2; exit 1; }
     rm -rf "$base/${k}x_window/checkpoints"
     spheres=$(grep -o '[0-9]* spheres' "$log" | head -1 | cut -d' ' -f1)
     slowest=$(awk '/^particles /{print $4}' "$log")
-    us=$(awk -v t="$slowest" -v n="$spheres" 'BEGIN{printf "%.3f", t / (n * 30) * 1e6}')
+    # Physics steps of the window: from the restart's step to the last progress line's total.
+    step0=$(sed -n 's/^restarted from .* at step \([0-9]*\),.*/\1/p' "$log")
+    last=$(sed -n 's/^step *[0-9]*\/\([0-9]*\) .*/\1/p' "$log" | tail -1)
+    us=$(awk -v t="$slowest" -v n="$spheres" -v s="$((last - step0))" \
+      'BEGIN{printf "%.3f", t / (n * s) * 1e6}')
     echo "$k $us" >>"$results"
     echo "round $round, ${k}x: $spheres spheres, particles $slowest s (slowest rank), $us us per sphere and physics step (load $load at the start)"
   done
