@@ -38,6 +38,9 @@ struct MpiEnvironment {
   MpiEnvironment(int& argc, char**& argv) {
     core::select_reliable_mpi_io();
     MPI_Init(&argc, &argv);
+    // Every HDF5 failure becomes Biota's own one-line error (naming the file and dataset), once;
+    // HDF5's default prints its whole error stack on every rank.
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }
   ~MpiEnvironment() { MPI_Finalize(); }
 };

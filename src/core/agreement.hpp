@@ -82,7 +82,7 @@ class ErrorAgreement {
 /// \brief Test-only fault injection. BIOTA_TEST_FAIL="<point>@<rank>[@<step>]" (several separated
 /// by commas) makes `fault_injected(point, rank, step)` true on that rank (at that step, or at
 /// every step if none is given). Points used: step, health, output, checkpoint, end,
-/// checkpoint_close, output_close, late_signal, sigterm. Never set it outside tests.
+/// checkpoint_close, output_close, late_signal, sigterm, disk_full. Never set it outside tests.
 bool fault_injected(std::string_view point, int rank, long long step = -1);
 
 }  // namespace biota::core

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/hdf5_util.hpp"
+#include "io/write_file.hpp"
 
 namespace biota::io {
 namespace {
@@ -34,15 +35,12 @@ void row_offsets(MPI_Comm comm, unsigned long long rows, unsigned long long& off
 
 CheckpointWriter::CheckpointWriter(const grid::Decomposition& decomp, std::string path)
     : decomp_(decomp), path_(std::move(path)), tmp_path_(path_ + ".tmp") {
-  file_ = h5::create_parallel(tmp_path_, decomp_.comm());
-  h5::write_int_attribute(file_, "biota_checkpoint_format", kCheckpointFormat);
+  file_ = std::make_unique<WriteFile>(tmp_path_, decomp_.comm(), "checkpoint");
+  h5::write_int_attribute(file_->id(), "biota_checkpoint_format", kCheckpointFormat);
 }
 
-CheckpointWriter::~CheckpointWriter() {
-  // Not committed: the .tmp file stays (never taken for a checkpoint), the old one is intact.
-  // H5Fclose is collective: while unwinding on one rank it would wait for the others forever.
-  if (file_ >= 0 && !unwind_.unwinding()) H5Fclose(file_);
-}
+// Not committed: the .tmp file is removed (WriteFile), the old checkpoint is intact.
+CheckpointWriter::~CheckpointWriter() = default;
 
 void CheckpointWriter::write_field(const std::string& name, const grid::Field<core::Real>& field,
                                    int c0, int n) {
@@ -55,57 +53,45 @@ void CheckpointWriter::write_field(const std::string& name, const grid::Field<co
     for (int k = 0; k < e.z; ++k)
       for (int j = 0; j < e.y; ++j)
         for (int i = 0; i < e.x; ++i) buf.push_back(field(i, j, k, c));
-  h5::write_block(file_, "/fields/" + name, global, offset, count, buf.data());
+  file_->write_block("/fields/" + name, global, offset, count, buf.data());
 }
 
 void CheckpointWriter::write_rows(const std::string& name, const std::vector<double>& local_rows,
                                   int ncols) {
   unsigned long long rows = local_rows.size() / ncols, offset = 0, total = 0;
   row_offsets(decomp_.comm(), rows, offset, total);
-  h5::write_block(file_, "/rows/" + name, {total, hsize_t(ncols)}, {offset, 0},
-                  {rows, hsize_t(ncols)}, local_rows.data());
+  file_->write_block("/rows/" + name, {total, hsize_t(ncols)}, {offset, 0}, {rows, hsize_t(ncols)},
+                     local_rows.data());
 }
 
 void CheckpointWriter::write_rows_u64(const std::string& name,
                                       const std::vector<std::uint64_t>& local_rows, int ncols) {
   unsigned long long rows = local_rows.size() / ncols, offset = 0, total = 0;
   row_offsets(decomp_.comm(), rows, offset, total);
-  h5::write_block(file_, "/rows/" + name, {total, hsize_t(ncols)}, {offset, 0},
-                  {rows, hsize_t(ncols)}, reinterpret_cast<const double*>(local_rows.data()),
-                  H5T_NATIVE_UINT64);
+  file_->write_block("/rows/" + name, {total, hsize_t(ncols)}, {offset, 0}, {rows, hsize_t(ncols)},
+                     reinterpret_cast<const double*>(local_rows.data()), H5T_NATIVE_UINT64);
 }
 
 void CheckpointWriter::write_attribute(const std::string& name, double value) {
-  h5::write_double_attribute(file_, name, value);
+  h5::write_double_attribute(file_->id(), name, value);
 }
 void CheckpointWriter::write_attribute(const std::string& name, std::int64_t value) {
-  h5::write_int_attribute(file_, name, value);
+  h5::write_int_attribute(file_->id(), name, value);
 }
 void CheckpointWriter::write_attribute(const std::string& name, const std::string& value) {
-  h5::write_string_attribute(file_, name, value);
+  h5::write_string_attribute(file_->id(), name, value);
 }
 
 void CheckpointWriter::write_replicated(const std::string& name,
                                         const std::vector<double>& values) {
   const bool root = decomp_.rank() == 0;
-  h5::write_block(file_, "/replicated/" + name, {hsize_t(values.size())}, {0},
-                  {root ? hsize_t(values.size()) : 0}, values.data());
+  file_->write_block("/replicated/" + name, {hsize_t(values.size())}, {0},
+                     {root ? hsize_t(values.size()) : 0}, values.data());
 }
 
 void CheckpointWriter::commit() {
-  h5::write_int_attribute(file_, "complete", 1);
-  int status = H5Fclose(file_) < 0 ? 1 : 0;
-  file_ = -1;
-  if (core::fault_injected("checkpoint_close", decomp_.rank())) status = 1;
-  int any = 0;
-  MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, decomp_.comm());
-  if (any) {
-    if (decomp_.rank() == 0) std::remove(tmp_path_.c_str());
-    MPI_Barrier(decomp_.comm());
-    throw std::runtime_error("checkpoint: writing " + path_ +
-                             " failed (HDF5 close reported an error: disk full or I/O error); "
-                             "the partial file was removed");
-  }
+  h5::write_int_attribute(file_->id(), "complete", 1);
+  file_->close();  // on failure on any rank: removed, every rank throws
   int renamed = 1;
   if (decomp_.rank() == 0) renamed = std::rename(tmp_path_.c_str(), path_.c_str()) == 0;
   MPI_Bcast(&renamed, 1, MPI_INT, 0, decomp_.comm());

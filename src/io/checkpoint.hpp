@@ -5,12 +5,14 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/agreement.hpp"
 #include "grid/decomposition.hpp"
 #include "grid/field.hpp"
+#include "io/write_file.hpp"
 
 namespace biota::io {
 
@@ -55,8 +57,7 @@ class CheckpointWriter {
  private:
   const grid::Decomposition& decomp_;
   std::string path_, tmp_path_;
-  hid_t file_ = -1;
-  core::UnwindGuard unwind_;  // no collective close while unwinding
+  std::unique_ptr<WriteFile> file_;  // the .tmp file
 };
 
 /// \brief Reads a checkpoint written on any rank count. Collective.

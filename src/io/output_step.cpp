@@ -8,12 +8,13 @@
 #include <vtkXMLImageDataWriter.h>
 
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/agreement.hpp"
 #include "io/hdf5_util.hpp"
 #include "io/pvd_series.hpp"
+#include "io/write_file.hpp"
 #include "io/xdmf_attribute.hpp"
 
 namespace biota::io {
@@ -88,7 +89,8 @@ void OutputStep::write() {
 
   // --- HDF5: one file, global datasets [Z][Y][X](,3), collective hyperslab writes; chunks and
   // filters depend on the written grid only, so the file content is rank-independent.
-  hid_t file = h5::create_parallel(h5_path(), decomp_.comm());
+  WriteFile h5_file(h5_path(), decomp_.comm(), "output");
+  const hid_t file = h5_file.id();
   h5::write_string_attribute(file, "config", config_);
   h5::write_string_attribute(file, "units", units_);
   h5::write_double_attribute(file, "time", time_);
@@ -117,28 +119,28 @@ void OutputStep::write() {
       count.push_back(a.ncomp);
       if (!chunk.empty()) chunk.push_back(a.ncomp);
     }
-    h5::write_block(file, "/fields/" + name, global, offset, count, a.data.data(),
-                    H5T_NATIVE_DOUBLE, chunk, layout_.compression);
+    h5_file.write_block("/fields/" + name, global, offset, count, a.data.data(), H5T_NATIVE_DOUBLE,
+                        chunk, layout_.compression);
     hid_t ds = H5Dopen2(file, ("/fields/" + name).c_str(), H5P_DEFAULT);
     h5::write_string_attribute(ds, "unit", a.unit);
     H5Dclose(ds);
   }
   // A failed close (disk full) must not leave a file that looks like a finished output step.
-  int status = H5Fclose(file) < 0 ? 1 : 0, any = 0;
-  if (core::fault_injected("output_close", decomp_.rank())) status = 1;
-  MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, decomp_.comm());
-  if (any) {
-    if (decomp_.rank() == 0) std::filesystem::remove(h5_path());
-    MPI_Barrier(decomp_.comm());
-    throw std::runtime_error("output: writing " + h5_path() +
-                             " failed (HDF5 close reported an error: disk full or I/O error); "
-                             "the partial file was removed");
-  }
+  const double h5_bytes = h5_file.close();
 
   // --- VTK piece of this rank (point extents are cell extents + 1).
   std::filesystem::path vtk_dir = std::filesystem::path(dir_) / "vtk";
   const std::string piece = fmt::format("{}_{:04d}.vti", stem, decomp_.rank());
-  if (have_cells) {  // a rank without selected cells writes no piece
+  // The pieces hold the values of the HDF5 file without its chunks' overhang (a tenth more for
+  // their headers; compressed, at most as much as the HDF5 file).
+  double raw_bytes = 0;
+  for (const auto& [name, a] : arrays_)
+    raw_bytes += 8.0 * a.ncomp * static_cast<double>(n.product());
+  require_free_space(decomp_.comm(), (vtk_dir / piece).string(),
+                     1.1 * std::min(raw_bytes, layout_.compression > 0 ? h5_bytes : raw_bytes),
+                     "output", "the VTK pieces of " + stem);
+  // A rank without selected cells writes no piece.
+  run_agreed(decomp_.comm(), have_cells, [&] {
     vtkNew<vtkImageData> image;
     image->SetExtent(ob.lo.x, ob.hi.x, ob.lo.y, ob.hi.y, ob.lo.z, ob.hi.z);
     image->SetOrigin(origin.x, origin.y, origin.z);
@@ -164,15 +166,19 @@ void OutputStep::write() {
     } else {
       writer->SetCompressorTypeToNone();
     }
-    if (!writer->Write())
-      throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
-  }
-  MPI_Barrier(decomp_.comm());
-  if (decomp_.rank() != 0) return;
+    write_vtk_checked(*writer, (vtk_dir / piece).string());
+  });
+  // The index files, rank 0.
+  run_agreed(decomp_.comm(), decomp_.rank() == 0, [&] { write_indexes(stem, n, origin, spacing); });
+}
 
+void OutputStep::write_indexes(const std::string& stem, const core::Index3& n,
+                               const core::Vec3& origin, double spacing) const {
+  const std::filesystem::path vtk_dir = std::filesystem::path(dir_) / "vtk";
+  const auto& g = decomp_.global_cells();
   // --- .pvti index of the pieces.
   {
-    std::ofstream out(vtk_dir / (stem + ".pvti"));
+    std::ostringstream out;
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PImageData\" version=\"1.0\" "
            "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
     out << fmt::format(
@@ -196,13 +202,14 @@ void OutputStep::write() {
                              b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, b.hi.z, stem, r);
         }
     out << "</PImageData>\n</VTKFile>\n";
+    write_text_file((vtk_dir / (stem + ".pvti")).string(), out.str());
   }
   update_pvd((std::filesystem::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_,
              "vtk/" + stem + ".pvti");
 
   // --- XDMF index of the HDF5 file (3DCoRectMesh: point dims are cells + 1, data on cells).
   {
-    std::ofstream out(std::filesystem::path(dir_) / (stem + ".xmf"));
+    std::ostringstream out;
     const std::string h5name = stem + ".h5";
     out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
     out << fmt::format("<Grid Name=\"{}\" GridType=\"Uniform\">\n<Time Value=\"{:.17g}\"/>\n",
@@ -225,6 +232,7 @@ void OutputStep::write() {
                             h5name + ":/fields/" + name);
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";
+    write_text_file((std::filesystem::path(dir_) / (stem + ".xmf")).string(), out.str());
   }
 }
 

@@ -41,6 +41,9 @@ class OutputStep {
   };
   /// \brief The selected cells of a local owned-cell array (x fastest, `ncomp` interleaved).
   std::vector<double> select(const std::vector<double>& local, int ncomp) const;
+  /// \brief Rank 0: the .pvti of the pieces, the .pvd entry and the .xmf of the HDF5 file.
+  void write_indexes(const std::string& stem, const core::Index3& n, const core::Vec3& origin,
+                     double spacing) const;
 
   const grid::Decomposition& decomp_;
   std::string dir_, prefix_;

@@ -13,11 +13,12 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/hdf5_util.hpp"
 #include "io/pvd_series.hpp"
+#include "io/write_file.hpp"
 #include "io/xdmf_attribute.hpp"
 
 namespace biota::io {
@@ -91,7 +92,7 @@ void write_surface_vtp(const SurfaceData& t, const std::string& path) {
   writer->SetFileName(path.c_str());
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
-  if (!writer->Write()) throw std::runtime_error("VTK: cannot write " + path);
+  write_vtk_checked(*writer, path);
 }
 
 // Rows [0, rows) of a column-major-by-point array with `ncomp` values per point.
@@ -127,7 +128,8 @@ void ParticleOutput::write(const ParticleData& d) {
   const std::size_t no = d.owned, nl = d.lines.size();
   const auto [p_off, p_tot] = offset_and_total(comm_, no);
   const auto [l_off, l_tot] = offset_and_total(comm_, nl);
-  hid_t file = h5::create_parallel(fs::path(dir_) / (stem + ".h5"), comm_);
+  WriteFile h5_file((fs::path(dir_) / (stem + ".h5")).string(), comm_, "output");
+  const hid_t file = h5_file.id();
   h5::write_string_attribute(file, "config", config_);
   h5::write_double_attribute(file, "time", time_);
   h5::write_int_attribute(file, "step", step_);
@@ -137,7 +139,7 @@ void ParticleOutput::write(const ParticleData& d) {
                         hsize_t total, std::size_t count, hid_t type = H5T_NATIVE_DOUBLE) {
     std::vector<hsize_t> g = {total}, o = {off}, c = {count};
     if (ncomp > 1) g.push_back(ncomp), o.push_back(0), c.push_back(ncomp);
-    h5::write_block(file, name, g, o, c, static_cast<const double*>(data), type);
+    h5_file.write_block(name, g, o, c, static_cast<const double*>(data), type);
   };
   if (p_tot > 0) {  // none at all (a moss population that died out): no /points datasets
     write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
@@ -176,13 +178,16 @@ void ParticleOutput::write(const ParticleData& d) {
     for (const auto& [name, v] : surf.cell_scalars)
       write_rows("/surface/" + name, v.data(), 1, st_off, st_tot, st);
   }
-  H5Fclose(file);
+  const double h5_bytes = h5_file.close();
 
   // ---------------- VTK piece of this rank: all points (ghost copies flagged), owned points as
   // vertices, segments as lines.
   const std::size_t np = d.ids.size();
   const std::string piece = fmt::format("{}_{:04d}.vtp", stem, rank);
-  {
+  // The pieces hold the HDF5 file's values and the ghost copies (a fifth more, at most).
+  require_free_space(comm_, (vtk_dir / piece).string(), 1.2 * h5_bytes, "output",
+                     "the VTK pieces of " + stem);
+  run_agreed(comm_, true, [&] {
     vtkNew<vtkPolyData> poly;
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble();
@@ -236,94 +241,98 @@ void ParticleOutput::write(const ParticleData& d) {
     writer->SetFileName((vtk_dir / piece).string().c_str());
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
-    if (!writer->Write())
-      throw std::runtime_error("VTK: cannot write " + (vtk_dir / piece).string());
-  }
-  MPI_Barrier(comm_);
-  if (rank != 0) return;
+    write_vtk_checked(*writer, (vtk_dir / piece).string());
+  });
 
   // ---------------- .pvtp index, .pvd series, XDMF (rank 0).
-  {
-    std::ofstream out(vtk_dir / (stem + ".pvtp"));
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
-           "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n"
-           "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
-    out << "<PPointData>\n<PDataArray type=\"UInt64\" Name=\"id\"/>\n"
-           "<PDataArray type=\"UInt8\" Name=\"ghost\"/>\n";
-    for (const auto& [name, v] : d.scalars)
-      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
-    for (const auto& [name, v] : d.vectors)
-      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\"/>\n",
-                         name);
-    out << "</PPointData>\n<PCellData>\n";
-    for (const auto& [name, v] : d.line_scalars)
-      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
-    out << "</PCellData>\n";
-    for (int r = 0; r < size; ++r)
-      out << fmt::format("<Piece Source=\"{}_{:04d}.vtp\"/>\n", stem, r);
-    out << "</PPolyData>\n</VTKFile>\n";
-  }
-  update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_, "vtk/" + stem + ".pvtp");
-  if (st_tot > 0) {
-    write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
-    update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
-               "vtk/" + stem + "_surface.vtp");
-  }
-  {
-    std::ofstream out(fs::path(dir_) / (stem + ".xmf"));
-    const std::string h5 = stem + ".h5";
-    out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
-    out << fmt::format(
-        "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-        "<Time Value=\"{:.17g}\"/>\n",
-        prefix_, time_);
-    if (p_tot > 0) {
-      out << fmt::format(
-          "<Grid Name=\"points\" GridType=\"Uniform\">\n"
-          "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{0}\" NodesPerElement=\"1\"/>\n"
-          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-          "Precision=\"8\" Dimensions=\"{0} 3\">{1}:/points/position</DataItem></Geometry>\n"
-          "<Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
-          "Format=\"HDF\" "
-          "NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/id</DataItem>"
-          "</Attribute>\n",
-          p_tot, h5);
+  run_agreed(comm_, rank == 0, [&] {
+    {
+      std::ostringstream out;
+      out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
+             "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n"
+             "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
+      out << "<PPointData>\n<PDataArray type=\"UInt64\" Name=\"id\"/>\n"
+             "<PDataArray type=\"UInt8\" Name=\"ghost\"/>\n";
       for (const auto& [name, v] : d.scalars)
-        out << xdmf_attribute(name, false, "Node", std::to_string(p_tot), h5 + ":/points/" + name);
+        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
       for (const auto& [name, v] : d.vectors)
-        out << xdmf_attribute(name, true, "Node", std::to_string(p_tot) + " 3",
-                              h5 + ":/points/" + name);
-      out << "</Grid>\n";
-    }
-    if (l_tot > 0) {
-      out << fmt::format(
-          "<Grid Name=\"lines\" GridType=\"Uniform\">\n"
-          "<Topology TopologyType=\"Polyline\" NumberOfElements=\"{0}\" NodesPerElement=\"2\">"
-          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 2\">"
-          "{1}:/lines/connectivity</DataItem></Topology>\n"
-          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
-          l_tot, h5, 2 * l_tot);
+        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\"/>\n",
+                           name);
+      out << "</PPointData>\n<PCellData>\n";
       for (const auto& [name, v] : d.line_scalars)
-        out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
-      out << "</Grid>\n";
+        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+      out << "</PCellData>\n";
+      for (int r = 0; r < size; ++r)
+        out << fmt::format("<Piece Source=\"{}_{:04d}.vtp\"/>\n", stem, r);
+      out << "</PPolyData>\n</VTKFile>\n";
+      write_text_file((vtk_dir / (stem + ".pvtp")).string(), out.str());
     }
+    update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_,
+               "vtk/" + stem + ".pvtp");
     if (st_tot > 0) {
-      out << fmt::format(
-          "<Grid Name=\"surface\" GridType=\"Uniform\">\n"
-          "<Topology TopologyType=\"Triangle\" NumberOfElements=\"{0}\">"
-          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 3\">"
-          "{1}:/surface/triangles</DataItem></Topology>\n"
-          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
-          st_tot, h5, sv_tot);
-      for (const auto& [name, v] : surf.cell_scalars)
-        out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
-                              h5 + ":/surface/" + name);
-      out << "</Grid>\n";
+      write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
+      update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
+                 "vtk/" + stem + "_surface.vtp");
     }
-    out << "</Grid>\n</Domain>\n</Xdmf>\n";
-  }
+    {
+      std::ostringstream out;
+      const std::string h5 = stem + ".h5";
+      out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
+      out << fmt::format(
+          "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+          "<Time Value=\"{:.17g}\"/>\n",
+          prefix_, time_);
+      if (p_tot > 0) {
+        out << fmt::format(
+            "<Grid Name=\"points\" GridType=\"Uniform\">\n"
+            "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{0}\" "
+            "NodesPerElement=\"1\"/>\n"
+            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+            "Precision=\"8\" Dimensions=\"{0} 3\">{1}:/points/position</DataItem></Geometry>\n"
+            "<Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+            "Format=\"HDF\" "
+            "NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/id</DataItem>"
+            "</Attribute>\n",
+            p_tot, h5);
+        for (const auto& [name, v] : d.scalars)
+          out << xdmf_attribute(name, false, "Node", std::to_string(p_tot),
+                                h5 + ":/points/" + name);
+        for (const auto& [name, v] : d.vectors)
+          out << xdmf_attribute(name, true, "Node", std::to_string(p_tot) + " 3",
+                                h5 + ":/points/" + name);
+        out << "</Grid>\n";
+      }
+      if (l_tot > 0) {
+        out << fmt::format(
+            "<Grid Name=\"lines\" GridType=\"Uniform\">\n"
+            "<Topology TopologyType=\"Polyline\" NumberOfElements=\"{0}\" NodesPerElement=\"2\">"
+            "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 2\">"
+            "{1}:/lines/connectivity</DataItem></Topology>\n"
+            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+            "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
+            l_tot, h5, 2 * l_tot);
+        for (const auto& [name, v] : d.line_scalars)
+          out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
+        out << "</Grid>\n";
+      }
+      if (st_tot > 0) {
+        out << fmt::format(
+            "<Grid Name=\"surface\" GridType=\"Uniform\">\n"
+            "<Topology TopologyType=\"Triangle\" NumberOfElements=\"{0}\">"
+            "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 3\">"
+            "{1}:/surface/triangles</DataItem></Topology>\n"
+            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+            "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
+            st_tot, h5, sv_tot);
+        for (const auto& [name, v] : surf.cell_scalars)
+          out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
+                                h5 + ":/surface/" + name);
+        out << "</Grid>\n";
+      }
+      out << "</Grid>\n</Domain>\n</Xdmf>\n";
+      write_text_file((fs::path(dir_) / (stem + ".xmf")).string(), out.str());
+    }
+  });
 }
 
 }  // namespace biota::io

@@ -2,11 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <regex>
 #include <sstream>
+
+#include "io/write_file.hpp"
 
 namespace biota::io {
 
@@ -26,14 +27,11 @@ void update_pvd(const std::string& pvd_path, long long step, double time,
   entries[step] =
       fmt::format(R"(<DataSet step="{}" timestep="{:.17g}" group="" part="0" file="{}"/>)", step,
                   time, relative_file);
-  const std::string tmp = pvd_path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-    for (const auto& [s, e] : entries) out << "  " << e << "\n";
-    out << "</Collection>\n</VTKFile>\n";
-  }
-  std::rename(tmp.c_str(), pvd_path.c_str());
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& [s, e] : entries) out << "  " << e << "\n";
+  out << "</Collection>\n</VTKFile>\n";
+  write_text_file(pvd_path, out.str());
 }
 
 }  // namespace biota::io

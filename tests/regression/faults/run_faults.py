@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Fault suite (docs/robustness.md). Drives `biota` with the test-only hook BIOTA_TEST_FAIL:
 1. a failure injected on one rank at each phase (step, health check, output, checkpoint,
-   end of run, checkpoint/output close) ends the job with the message once and exit != 0;
+   end of run, checkpoint/output close) ends the job with the message once and exit != 0, and so
+   does a full disk, without a partial file;
 2. a restart refuses a changed deck, another scenario, a truncated or non-HDF5 file and a newer
    format, each with one line; `--restart latest` skips .tmp and incomplete files;
 3. SIGTERM at a random step (seeded, printed) on 2 and 3 ranks writes a checkpoint, exits 0, and
@@ -77,6 +78,16 @@ with tempfile.TemporaryDirectory() as tmp:
         if hook == "output@1@20":
             expect(f"last good checkpoint: {tmp}/{hook}/ck/tank_00000010.h5" in p.stderr,
                    "the last good checkpoint is named")
+    # A full disk (the test hook makes rank 0 see no free space): every rank stops before the
+    # write, with one line naming the file, and the partial file is removed (a real full disk:
+    # docs/robustness.md).
+    for np_ in (2, 3):
+        p = run(np_, TANK, small(f"full{np_}"), "disk_full@0")
+        e = errors(p)
+        expect(p.returncode == 1 and len(e) == 1 and "MB free" in e[0] and "tank_000000.h5" in e[0]
+               and "aborting" not in p.stderr,
+               f"full disk on {np_} ranks: exit {p.returncode}, message once, no abort: {e}")
+        expect(not glob.glob(f"{tmp}/full{np_}/out/*.h5*"), "a full disk leaves no .h5")
     # The flock's health check is local to each rank: a NaN on one rank must still stop all.
     p = run(2, FLOCK, ["--set", "run.end_time=0.5", "--set", "run.health_interval=5",
                        "--set", f"output.dir={tmp}/flock/out", "--set", f"checkpoint.dir={tmp}/flock/ck"],
