@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "io/hdf5_util.hpp"
@@ -83,7 +84,10 @@ void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>&
     // Every rank is here and the space left covers the metadata: the close succeeds.
     H5Fclose(file_);
     file_ = -1;
-    if (rank_ == 0) fs::remove(path_);
+    if (rank_ == 0) {
+      std::error_code ec;
+      fs::remove(path_, ec);
+    }
     MPI_Barrier(comm_);
     throw std::runtime_error(std::string(e.what()) + "; the partial file was removed");
   }
@@ -99,7 +103,10 @@ double WriteFile::close() {
   if (core::fault_injected(what_ + "_close", rank_)) status = 1;
   MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, comm_);
   if (any) {
-    if (rank_ == 0) fs::remove(path_);
+    if (rank_ == 0) {
+      std::error_code ec;
+      fs::remove(path_, ec);
+    }
     MPI_Barrier(comm_);
     throw std::runtime_error(
         fmt::format("{}: writing {} failed (HDF5 close reported an error: disk full or I/O "
@@ -131,6 +138,29 @@ void write_text_file(const std::string& path, const std::string& content) {
     throw std::runtime_error(fmt::format("output: writing {} failed{}; the previous one is kept",
                                          path, free_space_note(path)));
   }
+}
+
+void agree_on_error(MPI_Comm comm, std::exception_ptr error) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int first = error ? rank : std::numeric_limits<int>::max();
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == std::numeric_limits<int>::max()) return;
+  std::string message;
+  if (rank == first) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::exception& e) {
+      message = e.what();
+    } catch (...) {
+      message = "unknown error";
+    }
+  }
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, first, comm);
+  message.resize(length);
+  MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
+  throw std::runtime_error(message);
 }
 
 void write_vtk_checked(vtkXMLWriter& writer, const std::string& path) {

@@ -14,7 +14,6 @@
 #include <mpi.h>
 
 #include <exception>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -71,25 +70,24 @@ void write_text_file(const std::string& path, const std::string& content);
 /// std::runtime_error naming the file and the free space. One rank.
 void write_vtk_checked(vtkXMLWriter& writer, const std::string& path);
 
+/// \brief Collective: throws on every rank, with the message of the lowest rank whose `error` is
+/// set, if any rank's is.
+void agree_on_error(MPI_Comm comm, std::exception_ptr error);
+
 /// \brief Collective: runs `fn` on the ranks where `here` is true; if it threw on any rank, every
-/// rank throws (a failing rank its own exception, so the lowest failing rank's message is the
-/// one printed). For the files each rank or rank 0 writes alone (VTK pieces, index files), which
-/// hold no collective.
+/// rank throws the lowest failing rank's message. For the files each rank or rank 0 writes alone
+/// (VTK pieces, index files), which hold no collective.
 template <class F>
 void run_agreed(MPI_Comm comm, bool here, F&& fn) {
-  int failed = 0, any = 0;
   std::exception_ptr error;
   if (here) {
     try {
       fn();
     } catch (...) {
       error = std::current_exception();
-      failed = 1;
     }
   }
-  MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm);
-  if (error) std::rethrow_exception(error);
-  if (any) throw std::runtime_error("another rank could not write its output file");
+  agree_on_error(comm, error);
 }
 
 }  // namespace biota::io
