@@ -60,12 +60,17 @@ WriteFile::WriteFile(std::string path, MPI_Comm comm, std::string what)
 }
 
 WriteFile::~WriteFile() {
-  if (file_ < 0 || unwind_.unwinding()) return;
-  H5Fclose(file_);
+  if (file_ >= 0 && !unwind_.unwinding()) discard();
+}
+
+void WriteFile::discard() {
+  if (file_ >= 0) H5Fclose(file_);
+  file_ = -1;
   if (rank_ == 0) {
     std::error_code ec;
     fs::remove(path_, ec);
   }
+  MPI_Barrier(comm_);  // no rank looks for the file before it is gone
 }
 
 void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>& global,
@@ -81,14 +86,7 @@ void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>&
   try {
     require_free_space(comm_, path_, bytes, what_, name + " of " + path_);
   } catch (const std::runtime_error& e) {
-    // Every rank is here and the space left covers the metadata: the close succeeds.
-    H5Fclose(file_);
-    file_ = -1;
-    if (rank_ == 0) {
-      std::error_code ec;
-      fs::remove(path_, ec);
-    }
-    MPI_Barrier(comm_);
+    discard();  // every rank is here, and the space left covers the metadata the close writes
     throw std::runtime_error(std::string(e.what()) + "; the partial file was removed");
   }
   // A failure here (an I/O error, or space taken by another process since the check) may leave
@@ -103,11 +101,7 @@ double WriteFile::close() {
   if (core::fault_injected(what_ + "_close", rank_)) status = 1;
   MPI_Allreduce(&status, &any, 1, MPI_INT, MPI_MAX, comm_);
   if (any) {
-    if (rank_ == 0) {
-      std::error_code ec;
-      fs::remove(path_, ec);
-    }
-    MPI_Barrier(comm_);
+    discard();
     throw std::runtime_error(
         fmt::format("{}: writing {} failed (HDF5 close reported an error: disk full or I/O "
                     "error){}; the partial file was removed",

@@ -55,6 +55,8 @@ class WriteFile {
   double close();
 
  private:
+  void discard();  // collective: close if open; rank 0 removes the file
+
   std::string path_, what_;
   MPI_Comm comm_;
   int rank_ = 0;
