@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/write_file.hpp"
+
 namespace biota::io {
 namespace {
 
@@ -44,16 +46,9 @@ long long CsvSeries::resume(const std::string& path, const std::string& header, 
         ++dropped;
     }
   }
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out;
-    open_or_throw(out, tmp, std::ios::trunc);
-    out << header << "\n";
-    for (const auto& l : keep) out << l << "\n";
-    out.flush();
-    if (!out) throw std::runtime_error(tmp + ": writing the trimmed CSV series failed");
-  }
-  std::filesystem::rename(tmp, path);
+  std::string trimmed = header + "\n";
+  for (const auto& l : keep) trimmed += l + "\n";
+  write_text_file(path, trimmed);
   if (out_.is_open()) out_.close();
   open_or_throw(out_, path, std::ios::app);
   return dropped;

@@ -245,94 +245,102 @@ void ParticleOutput::write(const ParticleData& d) {
   });
 
   // ---------------- .pvtp index, .pvd series, XDMF (rank 0).
-  run_agreed(comm_, rank == 0, [&] {
-    {
-      std::ostringstream out;
-      out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
-             "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n"
-             "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
-      out << "<PPointData>\n<PDataArray type=\"UInt64\" Name=\"id\"/>\n"
-             "<PDataArray type=\"UInt8\" Name=\"ghost\"/>\n";
-      for (const auto& [name, v] : d.scalars)
-        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
-      for (const auto& [name, v] : d.vectors)
-        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\"/>\n",
-                           name);
-      out << "</PPointData>\n<PCellData>\n";
-      for (const auto& [name, v] : d.line_scalars)
-        out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
-      out << "</PCellData>\n";
-      for (int r = 0; r < size; ++r)
-        out << fmt::format("<Piece Source=\"{}_{:04d}.vtp\"/>\n", stem, r);
-      out << "</PPolyData>\n</VTKFile>\n";
-      write_text_file((vtk_dir / (stem + ".pvtp")).string(), out.str());
-    }
-    update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_,
-               "vtk/" + stem + ".pvtp");
-    if (st_tot > 0) {
-      write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
-      update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
-                 "vtk/" + stem + "_surface.vtp");
-    }
-    {
-      std::ostringstream out;
-      const std::string h5 = stem + ".h5";
-      out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
+  run_agreed(comm_, rank == 0, [&] { write_indexes(d, stem, {p_tot, l_tot, sv_tot, st_tot}); });
+}
+
+void ParticleOutput::write_indexes(const ParticleData& d, const std::string& stem,
+                                   const Totals& totals) const {
+  namespace fs = std::filesystem;
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  const fs::path vtk_dir = fs::path(dir_) / "vtk";
+  const auto& surf = d.surface;
+  const unsigned long long p_tot = totals.points, l_tot = totals.lines,
+                           sv_tot = totals.surface_vertices, st_tot = totals.surface_triangles;
+  {
+    std::ostringstream out;
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" "
+           "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n"
+           "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
+    out << "<PPointData>\n<PDataArray type=\"UInt64\" Name=\"id\"/>\n"
+           "<PDataArray type=\"UInt8\" Name=\"ghost\"/>\n";
+    for (const auto& [name, v] : d.scalars)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+    for (const auto& [name, v] : d.vectors)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\"/>\n",
+                         name);
+    out << "</PPointData>\n<PCellData>\n";
+    for (const auto& [name, v] : d.line_scalars)
+      out << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+    out << "</PCellData>\n";
+    for (int r = 0; r < size; ++r)
+      out << fmt::format("<Piece Source=\"{}_{:04d}.vtp\"/>\n", stem, r);
+    out << "</PPolyData>\n</VTKFile>\n";
+    write_text_file((vtk_dir / (stem + ".pvtp")).string(), out.str());
+  }
+  update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_, "vtk/" + stem + ".pvtp");
+  if (st_tot > 0) {
+    write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
+    update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
+               "vtk/" + stem + "_surface.vtp");
+  }
+  {
+    std::ostringstream out;
+    const std::string h5 = stem + ".h5";
+    out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
+    out << fmt::format(
+        "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+        "<Time Value=\"{:.17g}\"/>\n",
+        prefix_, time_);
+    if (p_tot > 0) {
       out << fmt::format(
-          "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-          "<Time Value=\"{:.17g}\"/>\n",
-          prefix_, time_);
-      if (p_tot > 0) {
-        out << fmt::format(
-            "<Grid Name=\"points\" GridType=\"Uniform\">\n"
-            "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{0}\" "
-            "NodesPerElement=\"1\"/>\n"
-            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-            "Precision=\"8\" Dimensions=\"{0} 3\">{1}:/points/position</DataItem></Geometry>\n"
-            "<Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
-            "Format=\"HDF\" "
-            "NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/id</DataItem>"
-            "</Attribute>\n",
-            p_tot, h5);
-        for (const auto& [name, v] : d.scalars)
-          out << xdmf_attribute(name, false, "Node", std::to_string(p_tot),
-                                h5 + ":/points/" + name);
-        for (const auto& [name, v] : d.vectors)
-          out << xdmf_attribute(name, true, "Node", std::to_string(p_tot) + " 3",
-                                h5 + ":/points/" + name);
-        out << "</Grid>\n";
-      }
-      if (l_tot > 0) {
-        out << fmt::format(
-            "<Grid Name=\"lines\" GridType=\"Uniform\">\n"
-            "<Topology TopologyType=\"Polyline\" NumberOfElements=\"{0}\" NodesPerElement=\"2\">"
-            "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 2\">"
-            "{1}:/lines/connectivity</DataItem></Topology>\n"
-            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-            "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
-            l_tot, h5, 2 * l_tot);
-        for (const auto& [name, v] : d.line_scalars)
-          out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
-        out << "</Grid>\n";
-      }
-      if (st_tot > 0) {
-        out << fmt::format(
-            "<Grid Name=\"surface\" GridType=\"Uniform\">\n"
-            "<Topology TopologyType=\"Triangle\" NumberOfElements=\"{0}\">"
-            "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 3\">"
-            "{1}:/surface/triangles</DataItem></Topology>\n"
-            "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
-            "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
-            st_tot, h5, sv_tot);
-        for (const auto& [name, v] : surf.cell_scalars)
-          out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
-                                h5 + ":/surface/" + name);
-        out << "</Grid>\n";
-      }
-      out << "</Grid>\n</Domain>\n</Xdmf>\n";
-      write_text_file((fs::path(dir_) / (stem + ".xmf")).string(), out.str());
+          "<Grid Name=\"points\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{0}\" "
+          "NodesPerElement=\"1\"/>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{0} 3\">{1}:/points/position</DataItem></Geometry>\n"
+          "<Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+          "Format=\"HDF\" "
+          "NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0}\">{1}:/points/id</DataItem>"
+          "</Attribute>\n",
+          p_tot, h5);
+      for (const auto& [name, v] : d.scalars)
+        out << xdmf_attribute(name, false, "Node", std::to_string(p_tot), h5 + ":/points/" + name);
+      for (const auto& [name, v] : d.vectors)
+        out << xdmf_attribute(name, true, "Node", std::to_string(p_tot) + " 3",
+                              h5 + ":/points/" + name);
+      out << "</Grid>\n";
     }
-  });
+    if (l_tot > 0) {
+      out << fmt::format(
+          "<Grid Name=\"lines\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Polyline\" NumberOfElements=\"{0}\" NodesPerElement=\"2\">"
+          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 2\">"
+          "{1}:/lines/connectivity</DataItem></Topology>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/lines/position</DataItem></Geometry>\n",
+          l_tot, h5, 2 * l_tot);
+      for (const auto& [name, v] : d.line_scalars)
+        out << xdmf_attribute(name, false, "Cell", std::to_string(l_tot), h5 + ":/lines/" + name);
+      out << "</Grid>\n";
+    }
+    if (st_tot > 0) {
+      out << fmt::format(
+          "<Grid Name=\"surface\" GridType=\"Uniform\">\n"
+          "<Topology TopologyType=\"Triangle\" NumberOfElements=\"{0}\">"
+          "<DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\"{0} 3\">"
+          "{1}:/surface/triangles</DataItem></Topology>\n"
+          "<Geometry GeometryType=\"XYZ\"><DataItem Format=\"HDF\" NumberType=\"Float\" "
+          "Precision=\"8\" Dimensions=\"{2} 3\">{1}:/surface/position</DataItem></Geometry>\n",
+          st_tot, h5, sv_tot);
+      for (const auto& [name, v] : surf.cell_scalars)
+        out << xdmf_attribute(name, false, "Cell", std::to_string(st_tot),
+                              h5 + ":/surface/" + name);
+      out << "</Grid>\n";
+    }
+    out << "</Grid>\n</Domain>\n</Xdmf>\n";
+    write_text_file((fs::path(dir_) / (stem + ".xmf")).string(), out.str());
+  }
 }
 
 }  // namespace biota::io

@@ -50,6 +50,13 @@ class ParticleOutput {
   void write(const ParticleData& data);
 
  private:
+  /// Global counts of the written rows.
+  struct Totals {
+    unsigned long long points, lines, surface_vertices, surface_triangles;
+  };
+  /// \brief Rank 0: the .pvtp of the pieces, the .pvd entries, the surface piece and the .xmf.
+  void write_indexes(const ParticleData& d, const std::string& stem, const Totals& totals) const;
+
   MPI_Comm comm_;
   std::string dir_, prefix_;
   long long step_;
