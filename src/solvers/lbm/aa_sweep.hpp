@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "grid/field.hpp"
+#include "solvers/lbm/aa_simd.hpp"
 #include "solvers/lbm/collision.hpp"
 #include "solvers/lbm/stream_collide.hpp"
 
@@ -62,10 +63,22 @@ void aa_stream_collide(const AaSweepArgs& a) {
   double* ux = kMacro ? a.u->component(0) : nullptr;
   double* uy = kMacro ? a.u->component(1) : nullptr;
   double* uz = kMacro ? a.u->component(2) : nullptr;
+#if BIOTA_AA_SIMD_LANES > 0
+  AaCellStreams<L> streams;
+  for (int q = 0; q < Q; ++q) streams.read[q] = rp[q], streams.write[q] = wp[q];
+  streams.force[0] = fx, streams.force[1] = fy, streams.force[2] = fz;
+  streams.solid = a.solid;
+  streams.rho = rhop, streams.ux = ux, streams.uy = uy, streams.uz = uz;
+  const AaVecConstants constants(a.relax, kTrt, kForce, a.uniform_force);
+#endif
   // kLoad: read the force field (kField only); otherwise a kField sweep adds +0 to the uniform
   // part, as the loads of a zero force would.
   auto cells = [&]<bool kLoad>(std::ptrdiff_t begin, std::ptrdiff_t end)
       __attribute__((always_inline)) {
+#if BIOTA_AA_SIMD_LANES > 0
+    // Whole vectors on explicit registers (aa_simd.hpp, the same bits); the rest below.
+    begin = aa_cells_simd<L, kTrt, kForce, kLoad, kMacro, kSolids>(streams, constants, begin, end);
+#endif
     // Each cell writes exactly the locations it read and no other cell touches them.
 #pragma GCC ivdep
     for (std::ptrdiff_t c = begin; c < end; ++c) {
