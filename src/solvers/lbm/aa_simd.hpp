@@ -9,7 +9,7 @@
 /// Why not leave it to the compiler: GCC 12 vectorises the scalar cell loop, but its loop keeps
 /// the 2Q stream pointers and the input copy of the solids on the stack and reloads them per
 /// vector; one D3Q19 cell with Guo forcing took about 40 cycles in L1 and L2 alike. Written out,
-/// about 26 (jobs/dev/lbm_in_core.cpp; docs/performance.md, session 35). Without AVX2 there is no
+/// 30-35 (jobs/dev/lbm_in_core.cpp; docs/performance.md, session 35). Without AVX2 there is no
 /// vector path and the scalar loop does every cell.
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
 #include <immintrin.h>
