@@ -48,27 +48,26 @@ void aa_stream_collide(const AaSweepArgs& a) {
   constexpr int Q = L::Q;
   auto& fld = *a.f;
   const auto n = fld.cells();
-  double* rp[Q];
-  double* wp[Q];
+  // The stream pointers and fields once, for the vector cells and the scalar loop alike.
+  AaCellStreams<L> streams;
+  auto& rp = streams.read;
+  auto& wp = streams.write;
   for (int q = 0; q < Q; ++q) {
     const std::ptrdiff_t off =
         L::c[q][0] + L::c[q][1] * fld.stride_y() + L::c[q][2] * fld.stride_z();
     rp[q] = kFromPost ? fld.component(L::opp[q]) - off : fld.component(q);
     wp[q] = kFromPost ? fld.component(q) + off : fld.component(L::opp[q]);
   }
-  const double* fx = kForce == ForceMode::kField ? a.force->component(0) : nullptr;
-  const double* fy = kForce == ForceMode::kField ? a.force->component(1) : nullptr;
-  const double* fz = kForce == ForceMode::kField ? a.force->component(2) : nullptr;
-  double* rhop = kMacro ? a.rho->component(0) : nullptr;
-  double* ux = kMacro ? a.u->component(0) : nullptr;
-  double* uy = kMacro ? a.u->component(1) : nullptr;
-  double* uz = kMacro ? a.u->component(2) : nullptr;
-#if BIOTA_AA_SIMD_LANES > 0
-  AaCellStreams<L> streams;
-  for (int q = 0; q < Q; ++q) streams.read[q] = rp[q], streams.write[q] = wp[q];
-  streams.force[0] = fx, streams.force[1] = fy, streams.force[2] = fz;
+  for (int i = 0; i < 3; ++i)
+    streams.force[i] = kForce == ForceMode::kField ? a.force->component(i) : nullptr;
   streams.solid = a.solid;
-  streams.rho = rhop, streams.ux = ux, streams.uy = uy, streams.uz = uz;
+  streams.rho = kMacro ? a.rho->component(0) : nullptr;
+  streams.ux = kMacro ? a.u->component(0) : nullptr;
+  streams.uy = kMacro ? a.u->component(1) : nullptr;
+  streams.uz = kMacro ? a.u->component(2) : nullptr;
+  const double *fx = streams.force[0], *fy = streams.force[1], *fz = streams.force[2];
+  double *rhop = streams.rho, *ux = streams.ux, *uy = streams.uy, *uz = streams.uz;
+#if BIOTA_AA_SIMD_LANES > 0
   const AaVecConstants constants(a.relax, kTrt, kForce, a.uniform_force);
 #endif
   // kLoad: read the force field (kField only); otherwise a kField sweep adds +0 to the uniform
