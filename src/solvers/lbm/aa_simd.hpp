@@ -52,6 +52,8 @@ struct AaVec {
   static V neg(V a) { return _mm512_xor_pd(a, _mm512_set1_pd(-0.0)); }
   /// Lanes whose solid flag (one byte per cell) is set.
   static Mask solid(const std::uint8_t* s) {
+    // The masked form with all lanes set is the plain widening; the plain intrinsic makes GCC 12
+    // warn (-Wmaybe-uninitialized inside avx512fintrin.h) at every instantiation.
     const __m512i v = _mm512_maskz_cvtepu8_epi64(
         __mmask8(0xFF), _mm_loadl_epi64(reinterpret_cast<const __m128i*>(s)));
     return _mm512_test_epi64_mask(v, v);
