@@ -51,6 +51,30 @@ bool is_root() {
   return r == 0;
 }
 
+// The vector instructions of this build (docs/clusters.md: which -march for compute nodes).
+constexpr const char* kInstructions =
+#if defined(__AVX512F__)
+    "AVX-512 and FMA";
+#elif defined(__AVX2__) && defined(__FP_FAST_FMA)
+    "AVX2 and FMA";
+#elif defined(__FP_FAST_FMA)
+    "FMA, no AVX2";
+#else
+    "no hardware FMA (the lattice-Boltzmann sweep about ten times slower)";
+#endif
+
+// Said once on rank 0 before a run or benchmark: without hardware FMA, std::fma (which keeps the
+// LBM's bits the same on every build) is a libm call (docs/clusters.md).
+void warn_if_no_fast_fma(bool root) {
+#if !defined(__FP_FAST_FMA)
+  if (root)
+    fmt::print(stderr,
+               "biota: warning: this build has no hardware FMA, so the lattice-Boltzmann sweep "
+               "runs about ten times slower; rebuild with -DCMAKE_CXX_FLAGS=-march=x86-64-v3 (or "
+               "BIOTA_NATIVE=ON on the compute node), see docs/clusters.md\n");
+#endif
+}
+
 std::string version_text() {
   char mpi[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;
@@ -62,10 +86,10 @@ std::string version_text() {
   return fmt::format(
       "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n  VTK: {}\n  "
       "toml++: "
-      "{}.{}.{}\n  fmt: {}\n  compiler: {}",
+      "{}.{}.{}\n  fmt: {}\n  compiler: {}\n  instructions: {}",
       BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel, linalg::version(),
       vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH, FMT_VERSION,
-      __VERSION__);
+      __VERSION__, kInstructions);
 }
 
 // The deck names its scenario; read just that key so the full schema can be assembled.
@@ -215,6 +239,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*lsystem) return app::run_lsystem_command(lsys, root);
+    if (*bench || *run || *check) warn_if_no_fast_fma(root);
     if (*bench && bench_what == "flock") {
       // Options shared with the lbm benchmark override the flock's own defaults only when given.
       if (bench->count("--steps") > 0) flock_opts.steps = bench_opts.steps;

@@ -73,7 +73,7 @@ template <class Index, class Test = KeepAll>
                                                        Index base, Index* out, Real* out_r2,
                                                        const Test& test = {}) {
   static_assert(std::is_same_v<Index, std::uint64_t> || std::is_same_v<Index, std::uint32_t>);
-  constexpr bool kWide = sizeof(Index) == 8;
+  [[maybe_unused]] constexpr bool kWide = sizeof(Index) == 8;  // unused by the scalar loop
   std::size_t cnt = 0;
 #if BIOTA_COMPACT_NEAR_LANES == 8
   const __m512d px = _mm512_set1_pd(x.x), py = _mm512_set1_pd(x.y), pz = _mm512_set1_pd(x.z);

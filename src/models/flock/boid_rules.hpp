@@ -251,14 +251,12 @@ inline Vec3 rotate_z(const Vec3& a, Real angle) {
   // cos(±0) = 1 and sin(±0) = ±0 exactly: angle 0 (no heading noise) skips the libm call.
   Real c = 1, s = angle;
   if (angle != 0) c = std::cos(angle), s = std::sin(angle);
-#ifdef __FMA__
-  // On FMA targets GCC compiles the plain form below into one vfmaddsub (its complex-multiply
-  // pattern fuses even with -ffp-contract=off), but only when the pattern matches: the fused
-  // form is spelled out so the bits do not depend on that (docs/performance-flock.md, boids3).
+  // On FMA targets GCC compiles the plain form (c a.x - s a.y, ...) into one vfmaddsub (its
+  // complex-multiply pattern fuses even with -ffp-contract=off), but only when the pattern
+  // matches: the fused form is spelled out so the bits do not depend on that
+  // (docs/performance-flock.md, boids3). On every build: without hardware FMA std::fma is a libm
+  // call, one per prey and step, and the bits stay those of the FMA builds.
   return {std::fma(c, a.x, -(s * a.y)), std::fma(s, a.x, c * a.y), a.z};
-#else
-  return {c * a.x - s * a.y, s * a.x + c * a.y, a.z};
-#endif
 }
 
 /// \brief Semi-implicit Euler step (spec 2.1): v += a dt, clamp v_min <= |v| <= v_max, x += v dt.

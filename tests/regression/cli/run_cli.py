@@ -39,7 +39,8 @@ with tempfile.TemporaryDirectory() as tmp:
     p = run(1, ["check", DECK])
     expect(p.returncode == 0 and "OK" in p.stdout, "biota check input/tank.toml")
     p = subprocess.run([BIOTA, "--version"], capture_output=True, text=True)
-    expect(p.returncode == 0 and "HDF5" in p.stdout and "VTK" in p.stdout, "biota --version")
+    expect(p.returncode == 0 and "HDF5" in p.stdout and "VTK" in p.stdout
+           and "instructions: " in p.stdout, "biota --version")
 
     p = run(3, ["run", DECK, "--set", "run.steps=40"] + small)
     expect(p.returncode == 0, f"tank on 3 ranks exits 0 (got {p.returncode}: {p.stderr[-400:]})")
