@@ -60,7 +60,7 @@ constexpr const char* kInstructions =
 #elif defined(__FP_FAST_FMA)
     "FMA, no AVX2";
 #else
-    "no hardware FMA (the lattice-Boltzmann sweep about ten times slower)";
+    "no hardware FMA (a slow LBM, see docs/clusters.md)";
 #endif
 
 // Said once on rank 0 before a run or benchmark: without hardware FMA, std::fma (which keeps the
