@@ -60,7 +60,7 @@ constexpr const char* kInstructions =
 #elif defined(__FP_FAST_FMA)
     "FMA, no AVX2";
 #else
-    "no hardware FMA (a slow LBM, see docs/clusters.md)";
+    "no hardware FMA";  // warn_if_no_fast_fma() says what that costs
 #endif
 
 // Said once on rank 0 before a run or benchmark: without hardware FMA, std::fma (which keeps the
