@@ -186,17 +186,21 @@ int GeometricMultigrid::levels() const {
 void GeometricMultigrid::Impl::finish_operator(Level& v) {
   for (auto& c : v.coef) v.halo->exchange(c);
   const auto& n = v.n;
+  v.regular_cell.assign(v.blk.size, 0);
   v.regular_row.assign(std::size_t(n.y) * n.z, 0);
   for (int k = 0; k < n.z; ++k)
     for (int j = 0; j < n.y; ++j) {
-      bool regular = true;
-      for (int i = 1; i + 1 < n.x && regular; ++i) {
+      bool row_regular = true;
+      for (int i = 0; i < n.x; ++i) {
         const auto q = v.blk.index(i, j, k);
+        bool regular = true;
         for (int a = 0; a < 3; ++a)
           regular = regular && v.coef[a][q] == v.regular_coef[a] &&
                     v.coef[a][q - v.stride(a)] == v.regular_coef[a];
+        v.regular_cell[q] = regular;
+        row_regular = row_regular && regular;
       }
-      v.regular_row[j + std::size_t(n.y) * k] = regular;
+      v.regular_row[j + std::size_t(n.y) * k] = row_regular;
     }
   for (int k = 0; k < n.z; ++k)
     for (int j = 0; j < n.y; ++j)

@@ -41,6 +41,7 @@ void smooth_colour(Level& v, int colour, double omega) {
   const double *b = v.b.data(), *id = v.inv_diag.data();
   double* x = v.x.data();
   const double rinv = 1.0 / st.rdiag;
+  const char* cell_regular = v.regular_cell.data();
   const int parity0 = v.lo.x + v.lo.y + v.lo.z, nx = v.n.x;
   auto update = [&](std::ptrdiff_t q, double gs) {
     if constexpr (kRelaxed)
@@ -53,19 +54,17 @@ void smooth_colour(Level& v, int colour, double omega) {
       const int i0 = (colour - parity0 - j - k) & 1;
       const auto row = v.blk.index(0, j, k);
       auto general = [&](std::ptrdiff_t q) { update(q, id[q] * (b[q] + st.general(x, q))); };
+      auto regular = [&](std::ptrdiff_t q) { update(q, rinv * (b[q] + st.regular(x, q))); };
       if (v.regular_row[j + std::size_t(v.n.y) * k]) {
-        int i = i0;
-        if (i == 0) {
-          general(row);
-          i = 2;
-        }
-        for (; i < nx - 1; i += 2) {
-          const auto q = row + i;
-          update(q, rinv * (b[q] + st.regular(x, q)));
-        }
-        if (i == nx - 1) general(row + i);
+        for (int i = i0; i < nx; i += 2) regular(row + i);
       } else {
-        for (int i = i0; i < nx; i += 2) general(row + i);
+        for (int i = i0; i < nx; i += 2) {
+          const auto q = row + i;
+          if (cell_regular[q])
+            regular(q);
+          else
+            general(q);
+        }
       }
     }
 }
@@ -98,6 +97,7 @@ void residual(Level& v) {
   const Stencil st(v);
   const double *b = v.b.data(), *d = v.diag.data(), *x = v.x.data();
   double* r = v.r.data();
+  const char* cell_regular = v.regular_cell.data();
   const int nx = v.n.x;
   for (int k = 0; k < v.n.z; ++k)
     for (int j = 0; j < v.n.y; ++j) {
@@ -106,15 +106,19 @@ void residual(Level& v) {
         const auto q = row + i;
         r[q] = d[q] > 0 ? b[q] - (d[q] * x[q] - st.general(x, q)) : 0.0;
       };
-      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
-        general(0);
-        for (int i = 1; i < nx - 1; ++i) {
-          const auto q = row + i;
-          r[q] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
-        }
-        general(nx - 1);
+      auto regular = [&](int i) {
+        const auto q = row + i;
+        r[q] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
+      };
+      if (v.regular_row[j + std::size_t(v.n.y) * k]) {
+        for (int i = 0; i < nx; ++i) regular(i);
       } else {
-        for (int i = 0; i < nx; ++i) general(i);
+        for (int i = 0; i < nx; ++i) {
+          if (cell_regular[row + i])
+            regular(i);
+          else
+            general(i);
+        }
       }
     }
 }
@@ -130,6 +134,7 @@ void multiply(Level& v, const double* in, double* out) {
   const Stencil st(v);
   const double* d = v.diag.data();
   const char* solid = v.solid.data();
+  const char* cell_regular = v.regular_cell.data();
   p = 0;
   for (int k = 0; k < v.n.z; ++k)
     for (int j = 0; j < v.n.y; ++j, p += nx) {
@@ -139,13 +144,16 @@ void multiply(Level& v, const double* in, double* out) {
         const auto q = row + i;
         y[i] = solid[q] ? x[q] : d[q] * x[q] - st.general(x.data(), q);
       };
-      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
-        general(0);
-        for (int i = 1; i < nx - 1; ++i)
-          y[i] = st.rdiag * x[row + i] - st.regular(x.data(), row + i);
-        general(nx - 1);
+      auto regular = [&](int i) { y[i] = st.rdiag * x[row + i] - st.regular(x.data(), row + i); };
+      if (v.regular_row[j + std::size_t(v.n.y) * k]) {
+        for (int i = 0; i < nx; ++i) regular(i);
       } else {
-        for (int i = 0; i < nx; ++i) general(i);
+        for (int i = 0; i < nx; ++i) {
+          if (cell_regular[row + i])
+            regular(i);
+          else
+            general(i);
+        }
       }
     }
 }

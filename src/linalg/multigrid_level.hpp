@@ -23,10 +23,13 @@ struct Level {
   std::array<std::vector<double>, 3> coef;   // coefficient of each cell's high face, ghosted
   std::vector<double> diag, inv_diag, x, b, r;
   std::vector<char> solid;  // finest level only: identity rows of the operator
-  // Coefficient of an interior face per axis on this level, and per row (j, k) whether its cells
-  // 1 .. n.x-2 all have exactly those six coefficients (the constant-coefficient kernels apply).
+  // Coefficient of an interior face per axis on this level; per owned cell (ghosted index)
+  // whether its six faces have exactly those coefficients, so the constant-coefficient kernels
+  // apply; and per row (j, k) whether all its owned cells do. The kernel chosen for a cell
+  // depends on the cell alone, never on where a rank's block ends: the same bits on any
+  // decomposition (the two kernels round differently).
   std::array<double, 3> regular_coef{1, 1, 1};
-  std::vector<char> regular_row;
+  std::vector<char> regular_cell, regular_row;
   std::unique_ptr<BlockHalo> halo;
   // To the next coarser level, per axis: interpolation from two coarse cells per owned fine
   // index (local coarse index, -1 and n allowed; a missing second cell has weight 0), and its

@@ -15,6 +15,7 @@
 #include "linalg/cell_multigrid.hpp"
 #include "linalg/geometric_multigrid.hpp"
 #include "linalg/petsc_environment.hpp"
+#include "linalg/reproducible_vec.hpp"
 
 #include "linalg/petsc_check.hpp"
 
@@ -180,7 +181,17 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
   // apply the same stencil matrix-free, so it is not assembled then.
   const bool assembled = pc_type != kGeometricMG;
   if (assembled) BIOTA_PETSC(DMCreateMatrix(m.da, &m.A));
-  BIOTA_PETSC(DMCreateGlobalVector(m.da, &m.b));
+  // The geometric multigrid is the same bits on any decomposition, and so is CG around it when
+  // its inner products and norms are (reproducible_vec.hpp, docs/wind.md): then the whole wind,
+  // and the trees in it, are. That needs plain vectors, whose duplicates keep the routing (a
+  // DMDA's do not); the multigrid and the matrix-free operator only read their arrays.
+  if (assembled) {
+    BIOTA_PETSC(DMCreateGlobalVector(m.da, &m.b));
+  } else {
+    const PetscInt cells = static_cast<PetscInt>(m.box.extent().product());
+    BIOTA_PETSC(VecCreateMPI(m.comm, cells, static_cast<PetscInt>(N.product()), &m.b));
+    BIOTA_PETSC(make_reproducible(m.b));
+  }
   BIOTA_PETSC(VecDuplicate(m.b, &m.x));
   const core::Index3 n = m.box.extent(), lo = m.box.lo;
   auto is_solid = [&](int i, int j, int k) {  // local indices, ghosts allowed
@@ -245,9 +256,11 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
   MPI_Allreduce(&nsolid_local, &nsolid, 1, MPI_LONG_LONG, MPI_SUM, m.comm);
   singular_ = !any_dirichlet;
   if (singular_) {
-    if (nsolid == 0) {
+    // PETSc removes a constant null space with VecSum, a plain sum; the explicit vector goes
+    // through VecMDot, reproducible on the geometric multigrid's vectors.
+    if (nsolid == 0 && assembled) {
       BIOTA_PETSC(MatNullSpaceCreate(m.comm, PETSC_TRUE, 0, nullptr, &m.nullspace));
-    } else {  // constant over the fluid cells only
+    } else {  // constant over the fluid cells
       Vec z;
       BIOTA_PETSC(VecDuplicate(m.b, &z));
       PetscScalar* a;
@@ -321,6 +334,8 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     BIOTA_PETSC(MatCreateShell(m.comm, local, local, global, global, m.gmg.get(), &m.A_free));
     BIOTA_PETSC(MatShellSetOperation(
         m.A_free, MATOP_MULT, reinterpret_cast<void (*)(void)>(multiply_geometric_multigrid)));
+    BIOTA_PETSC(MatShellSetOperation(m.A_free, MATOP_CREATE_VECS,
+                                     reinterpret_cast<void (*)(void)>(reproducible_create_vecs)));
     if (m.nullspace) BIOTA_PETSC(MatSetNullSpace(m.A_free, m.nullspace));
     BIOTA_PETSC(KSPSetOperators(m.ksp, m.A_free, m.A_free));
   } else if (pc_type == PCMG) {

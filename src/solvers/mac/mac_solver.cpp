@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
+#include "core/reproducible_sum.hpp"
 #include "solvers/mac/kernels.hpp"
 
 namespace biota::solvers::mac {
@@ -330,22 +332,23 @@ void MacSolver::predict(const grid::Field<Real>& u, const grid::Field<Real>& u_o
       const std::ptrdiff_t f = s == 0 ? 0 : n_[c] * st[c];
       const std::ptrdiff_t in = s == 0 ? st[c] : -st[c];  // inward
       const int o1 = (c + 1) % 3, o2 = (c + 2) % 3;
-      // Convection speed: mean outward normal velocity on this face (every rank takes part).
+      // Convection speed: mean outward normal velocity on this face (every rank takes part),
+      // summed reproducibly, so the same on any decomposition.
       Real uc = 0;
       if (type(c, s) == BoundaryType::kConvectiveOutflow) {
-        double sum[2] = {0, 0}, g[2];
+        std::vector<double> face;
         if (here) {
           int loc[3];
           loc[c] = 0;
           for (int y = 0; y < n_[o2]; ++y)
             for (int x = 0; x < n_[o1]; ++x) {
               loc[o1] = x, loc[o2] = y;
-              sum[0] += U[u.index(loc[0], loc[1], loc[2]) + f];
-              sum[1] += 1;
+              face.push_back(U[u.index(loc[0], loc[1], loc[2]) + f]);
             }
         }
-        MPI_Allreduce(sum, g, 2, MPI_DOUBLE, MPI_SUM, d_.comm());
-        uc = std::max(0.0, (s == 0 ? -1.0 : 1.0) * g[0] / std::max(g[1], 1.0));
+        const double sum = core::reproducible_sum(face.data(), face.size(), d_.comm());
+        const double cells = double(d_.global_cells()[o1]) * double(d_.global_cells()[o2]);
+        uc = std::max(0.0, (s == 0 ? -1.0 : 1.0) * sum / cells);
       }
       if (!here) continue;
       int loc[3];
