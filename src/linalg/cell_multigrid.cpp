@@ -58,9 +58,12 @@ std::vector<CellLevel> cell_levels(const CellLevel& fine, int max_levels,
     for (int a = 0; a < 3; ++a) {
       if (f.cells[a] <= 2) continue;
       std::vector<int> s(f.starts[a].size());
+      // Every fine block at least two cells thick (the restriction reads two ghost layers, from
+      // the next block only), and every coarse block non-empty.
       bool nonempty = true;
       for (std::size_t p = 0; p < s.size(); ++p) s[p] = ceil_half(f.starts[a][p]);
-      for (std::size_t p = 0; p + 1 < s.size(); ++p) nonempty &= s[p + 1] > s[p];
+      for (std::size_t p = 0; p + 1 < s.size(); ++p)
+        nonempty &= s[p + 1] > s[p] && f.starts[a][p + 1] - f.starts[a][p] >= 2;
       if (!nonempty) continue;
       c.cells[a] = ceil_half(f.cells[a]);
       c.starts[a] = std::move(s);

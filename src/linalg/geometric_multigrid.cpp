@@ -157,6 +157,12 @@ GeometricMultigrid::GeometricMultigrid(MPI_Comm comm, const core::Index3& cells,
     for (auto* a : {&v.diag, &v.inv_diag, &v.x, &v.b, &v.r}) a->assign(v.blk.size, 0.0);
     for (auto& c : v.coef) c.assign(v.blk.size, 0.0);
     v.halo = std::make_unique<BlockHalo>(comm, v.blk, neighbours(comm, coords, dims, v.periodic));
+    if (l + 1 < shapes.size()) {  // a level that restricts (every block is >= 2 cells thick)
+      v.wide = GhostedBlock(v.n, 2);
+      v.r_wide.assign(v.wide.size, 0.0);
+      v.wide_halo =
+          std::make_unique<BlockHalo>(comm, v.wide, neighbours(comm, coords, dims, v.periodic));
+    }
     for (int a = 0; a < 3; ++a) {
       if (l == 0) {
         v.width[a].assign(v.N[a], 1.0);
@@ -198,7 +204,7 @@ void GeometricMultigrid::Impl::finish_operator(Level& v) {
           regular = regular && v.coef[a][q] == v.regular_coef[a] &&
                     v.coef[a][q - v.stride(a)] == v.regular_coef[a];
         v.regular_cell[q] = regular;
-        row_regular = row_regular && regular;
+        if (i > 0 && i + 1 < n.x) row_regular = row_regular && regular;
       }
       v.regular_row[j + std::size_t(n.y) * k] = row_regular;
     }
@@ -296,7 +302,7 @@ void GeometricMultigrid::Impl::build_transfers(int l) {
   const Level& c = L[l + 1];
   for (int a = 0; a < 3; ++a) {
     std::vector<std::vector<Weight>> prolong(f.n[a]), restrict_w(c.n[a]);
-    for (int i = -1; i <= f.n[a]; ++i) {
+    for (int i = -2; i <= f.n[a] + 1; ++i) {
       const int gf = f.lo[a] + i;
       if ((gf < 0 || gf >= f.N[a]) && !f.periodic[a]) continue;
       int idx[2];
@@ -339,8 +345,8 @@ void GeometricMultigrid::Impl::build_transfers(int l) {
       }
     }
   }
-  f.work_x.assign(std::size_t(c.n.x) * (f.n.y + 2) * (f.n.z + 2), 0.0);
-  f.work_y.assign(std::size_t(c.n.x) * c.n.y * (f.n.z + 2), 0.0);
+  f.work_x.assign(std::size_t(c.n.x) * (f.n.y + 4) * (f.n.z + 4), 0.0);
+  f.work_y.assign(std::size_t(c.n.x) * c.n.y * (f.n.z + 4), 0.0);
 }
 
 void GeometricMultigrid::Impl::build_coarse_solve() {
@@ -456,7 +462,11 @@ void GeometricMultigrid::Impl::vcycle(int l) {
   }
   v.halo->exchange(v.x);
   multigrid::residual(v);
-  v.halo->exchange(v.r);
+  for (int k = 0; k < v.n.z; ++k)
+    for (int j = 0; j < v.n.y; ++j)
+      std::copy_n(v.r.data() + v.blk.index(0, j, k), v.n.x,
+                  v.r_wide.data() + v.wide.index(0, j, k));
+  v.wide_halo->exchange(v.r_wide);
   Level& c = L[l + 1];
   multigrid::restrict_to(v, c);
   vcycle(l + 1);

@@ -55,16 +55,17 @@ void smooth_colour(Level& v, int colour, double omega) {
       const auto row = v.blk.index(0, j, k);
       auto general = [&](std::ptrdiff_t q) { update(q, id[q] * (b[q] + st.general(x, q))); };
       auto regular = [&](std::ptrdiff_t q) { update(q, rinv * (b[q] + st.regular(x, q))); };
+      auto either = [&](std::ptrdiff_t q) { cell_regular[q] ? regular(q) : general(q); };
       if (v.regular_row[j + std::size_t(v.n.y) * k]) {
-        for (int i = i0; i < nx; i += 2) regular(row + i);
-      } else {
-        for (int i = i0; i < nx; i += 2) {
-          const auto q = row + i;
-          if (cell_regular[q])
-            regular(q);
-          else
-            general(q);
+        int i = i0;
+        if (i == 0) {
+          either(row);
+          i = 2;
         }
+        for (; i < nx - 1; i += 2) regular(row + i);
+        if (i == nx - 1) either(row + i);
+      } else {
+        for (int i = i0; i < nx; i += 2) either(row + i);
       }
     }
 }
@@ -110,15 +111,13 @@ void residual(Level& v) {
         const auto q = row + i;
         r[q] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
       };
-      if (v.regular_row[j + std::size_t(v.n.y) * k]) {
-        for (int i = 0; i < nx; ++i) regular(i);
+      auto either = [&](int i) { cell_regular[row + i] ? regular(i) : general(i); };
+      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
+        either(0);
+        for (int i = 1; i < nx - 1; ++i) regular(i);
+        either(nx - 1);
       } else {
-        for (int i = 0; i < nx; ++i) {
-          if (cell_regular[row + i])
-            regular(i);
-          else
-            general(i);
-        }
+        for (int i = 0; i < nx; ++i) either(i);
       }
     }
 }
@@ -145,43 +144,42 @@ void multiply(Level& v, const double* in, double* out) {
         y[i] = solid[q] ? x[q] : d[q] * x[q] - st.general(x.data(), q);
       };
       auto regular = [&](int i) { y[i] = st.rdiag * x[row + i] - st.regular(x.data(), row + i); };
-      if (v.regular_row[j + std::size_t(v.n.y) * k]) {
-        for (int i = 0; i < nx; ++i) regular(i);
+      auto either = [&](int i) { cell_regular[row + i] ? regular(i) : general(i); };
+      if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
+        either(0);
+        for (int i = 1; i < nx - 1; ++i) regular(i);
+        either(nx - 1);
       } else {
-        for (int i = 0; i < nx; ++i) {
-          if (cell_regular[row + i])
-            regular(i);
-          else
-            general(i);
-        }
+        for (int i = 0; i < nx; ++i) either(i);
       }
     }
 }
 
 void restrict_to(Level& f, Level& c) {
-  // Separable: along x for every fine row (ghost rows too), then y, then z.
-  const int ncx = c.n.x, ncy = c.n.y, nfy2 = f.n.y + 2;
+  // Separable: along x for every fine row (two layers of ghost rows too), then y, then z, from
+  // the residual with two ghost layers (Level::r_wide, filled by the caller).
+  const int ncx = c.n.x, ncy = c.n.y, nfy4 = f.n.y + 4;
   {
     const int *i0 = f.r_index[0][0].data(), *i1 = f.r_index[0][1].data(),
               *i2 = f.r_index[0][2].data(), *i3 = f.r_index[0][3].data();
     const double *w0 = f.r_weight[0][0].data(), *w1 = f.r_weight[0][1].data(),
                  *w2 = f.r_weight[0][2].data(), *w3 = f.r_weight[0][3].data();
-    for (int k = -1; k <= f.n.z; ++k)
-      for (int j = -1; j <= f.n.y; ++j) {
-        const double* r = f.r.data() + f.blk.index(0, j, k);
-        double* out = f.work_x.data() + std::size_t((j + 1) + nfy2 * (k + 1)) * ncx;
+    for (int k = -2; k <= f.n.z + 1; ++k)
+      for (int j = -2; j <= f.n.y + 1; ++j) {
+        const double* r = f.r_wide.data() + f.wide.index(0, j, k);
+        double* out = f.work_x.data() + std::size_t((j + 2) + nfy4 * (k + 2)) * ncx;
         for (int I = 0; I < ncx; ++I)
           out[I] = w0[I] * r[i0[I]] + w1[I] * r[i1[I]] + w2[I] * r[i2[I]] + w3[I] * r[i3[I]];
       }
   }
-  for (int k = -1; k <= f.n.z; ++k)
+  for (int k = -2; k <= f.n.z + 1; ++k)
     for (int J = 0; J < ncy; ++J) {
-      double* out = f.work_y.data() + (std::size_t(k + 1) * ncy + J) * ncx;
+      double* out = f.work_y.data() + (std::size_t(k + 2) * ncy + J) * ncx;
       std::fill(out, out + ncx, 0.0);
       for (int m = 0; m < 4; ++m) {
         const double w = f.r_weight[1][m][J];
         const double* in =
-            f.work_x.data() + std::size_t((f.r_index[1][m][J] + 1) + nfy2 * (k + 1)) * ncx;
+            f.work_x.data() + std::size_t((f.r_index[1][m][J] + 2) + nfy4 * (k + 2)) * ncx;
         for (int I = 0; I < ncx; ++I) out[I] += w * in[I];
       }
     }
@@ -191,7 +189,7 @@ void restrict_to(Level& f, Level& c) {
       std::fill(out, out + ncx, 0.0);
       for (int m = 0; m < 4; ++m) {
         const double w = f.r_weight[2][m][K];
-        const double* in = f.work_y.data() + (std::size_t(f.r_index[2][m][K] + 1) * ncy + J) * ncx;
+        const double* in = f.work_y.data() + (std::size_t(f.r_index[2][m][K] + 2) * ncy + J) * ncx;
         for (int I = 0; I < ncx; ++I) out[I] += w * in[I];
       }
     }

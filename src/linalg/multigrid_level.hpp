@@ -25,20 +25,28 @@ struct Level {
   std::vector<char> solid;  // finest level only: identity rows of the operator
   // Coefficient of an interior face per axis on this level; per owned cell (ghosted index)
   // whether its six faces have exactly those coefficients, so the constant-coefficient kernels
-  // apply; and per row (j, k) whether all its owned cells do. The kernel chosen for a cell
-  // depends on the cell alone, never on where a rank's block ends: the same bits on any
-  // decomposition (the two kernels round differently).
+  // apply; and per row (j, k) whether its cells 1 .. n.x-2 all do (the row's loop then needs no
+  // test but at its two ends). The kernel chosen for a cell depends on the cell alone, never on
+  // where a rank's block ends: the same bits on any decomposition (the two kernels round
+  // differently).
   std::array<double, 3> regular_coef{1, 1, 1};
   std::vector<char> regular_cell, regular_row;
   std::unique_ptr<BlockHalo> halo;
   // To the next coarser level, per axis: interpolation from two coarse cells per owned fine
   // index (local coarse index, -1 and n allowed; a missing second cell has weight 0), and its
-  // transpose, the restriction from four fine cells per owned coarse index (local fine index).
+  // transpose, the restriction from four fine cells per owned coarse index (local fine index,
+  // -2 to n + 1: where a block starts at an odd index, a coarse cell's fine cells 2c - 1 .. 2c + 2
+  // reach two cells into the next block). The restriction reads the residual from `r_wide`,
+  // a copy of `r` with two ghost layers (`wide`, `wide_halo`), so every coarse cell gets the
+  // same four terms in the same order as on one rank.
   std::array<std::array<std::vector<int>, 2>, 3> p_index;
   std::array<std::array<std::vector<double>, 2>, 3> p_weight;
   std::array<std::array<std::vector<int>, 4>, 3> r_index;
   std::array<std::array<std::vector<double>, 4>, 3> r_weight;
   std::vector<double> work_x, work_y;  // restriction's intermediate sums
+  GhostedBlock wide;
+  std::unique_ptr<BlockHalo> wide_halo;
+  std::vector<double> r_wide;
 
   std::ptrdiff_t stride(int a) const { return a == 0 ? 1 : a == 1 ? blk.sy : blk.sz; }
   /// Centre distance across the high face of global cell g (half width at a non-periodic face).

@@ -124,7 +124,10 @@ TEST(Mac, DefaultStopMeetsDivergenceGoal) {
 }
 
 TEST(Mac, SameFieldsOnOneRank) {
+  // The default pressure solve (CG + the geometric multigrid, reproducible sums) gives the same
+  // bits on any decomposition; the case's cell counts split unevenly, at odd cells.
   MacParams p = wind_case();
+  p.poisson_options = "";
   const int steps = 8;
   // The run on all ranks of this job.
   grid::Decomposition d(MPI_COMM_WORLD, p.cells, periodic_of(p));
@@ -148,7 +151,7 @@ TEST(Mac, SameFieldsOnOneRank) {
       MPI_Comm_size(MPI_COMM_WORLD, &size);
       std::printf("%d ranks vs 1 rank after %d steps: max relative difference %.3e (t = %.4f)\n",
                   size, steps, diff, s1.time());
-      EXPECT_LE(diff, 1e-10);
+      EXPECT_EQ(diff, 0.0);
     }
     MPI_Comm_free(&solo);
   }
