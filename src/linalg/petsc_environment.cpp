@@ -2,6 +2,7 @@
 
 #include <petsc.h>
 
+#include <cctype>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,6 +14,27 @@ bool we_initialized = false;
 
 void check(PetscErrorCode ierr, const char* what) {
   if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what);
+}
+
+std::string last_message;
+
+/// Records the first message of an error (where it was raised) and returns its code, printing
+/// nothing: the caller turns the code into an exception (BIOTA_PETSC), and the job's error path
+/// prints one line.
+PetscErrorCode record_error(MPI_Comm, int, const char*, const char*, PetscErrorCode code,
+                            PetscErrorType type, const char* message, void*) {
+  if (type == PETSC_ERROR_INITIAL) {
+    last_message.clear();
+    for (const char* c = message ? message : ""; *c; ++c) {  // its lines joined by one space
+      const bool space = std::isspace(static_cast<unsigned char>(*c));
+      if (!space)
+        last_message += *c;
+      else if (!last_message.empty() && last_message.back() != ' ')
+        last_message += ' ';
+    }
+    while (!last_message.empty() && last_message.back() == ' ') last_message.pop_back();
+  }
+  return code;
 }
 
 std::vector<std::string> split_words(const std::string& s) {
@@ -59,6 +81,7 @@ void initialize(int argc, char** argv) {
     MPI_Initialized(&mpi_init);
     if (!mpi_init) throw std::logic_error("linalg::initialize: MPI_Init must come first");
     check(PetscInitialize(&argc, &argv, nullptr, nullptr), "PetscInitialize");
+    check(PetscPushErrorHandler(record_error, nullptr), "PetscPushErrorHandler");
     we_initialized = true;
   } else {
     std::string joined;
@@ -127,6 +150,10 @@ void check_unused_options(const std::string& prefix, const std::string& source) 
     throw core::InputError("unknown or unused PETSc option(s): " + bad + " (from " + source +
                            " or the command line after '--'; run with -help for the options "
                            "of the chosen solver)");
+}
+
+std::string last_error_message() {
+  return last_message;
 }
 
 }  // namespace biota::linalg

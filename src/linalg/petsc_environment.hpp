@@ -39,4 +39,10 @@ void clear_options(const std::string& options);
 /// has queried (a misspelt or non-existent option). Call after the objects are set up.
 void check_unused_options(const std::string& prefix, const std::string& source);
 
+/// \brief The message of the last error PETSc raised, on one line. PETSc's own handler is
+/// replaced by one that records it and returns: the default one prints a page per error and,
+/// on ranks other than 0 of a parallel communicator, sleeps before aborting (so a collective
+/// error looked like one rank failing alone, docs/robustness.md).
+std::string last_error_message();
+
 }  // namespace biota::linalg

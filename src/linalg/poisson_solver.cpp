@@ -126,6 +126,24 @@ struct PoissonSolver::Impl {
   MaxResidualTest* max_test = nullptr;      // owned by the KSP (destroyed with it)
   std::unique_ptr<GeometricMultigrid> gmg;  // the PCSHELL's context with -poisson_pc_type gmg
   Mat A_free = nullptr;                     // and CG's operator then: the same stencil, matrix-free
+  std::string options, options_key;         // the solver's options and where they came from
+  bool solved = false;                      // a solve with a right-hand side has run
+
+  /// Runs call(); an error PETSc raises while it reads or first runs the options (a combination
+  /// it cannot run, a value out of its range; the setup's solve from zero does not reach every
+  /// check) is the options' error, named with their key: one line and exit 2 on every rank.
+  template <class F>
+  void options_check(F&& call) const {
+    try {
+      call();
+    } catch (const core::InputError&) {
+      throw;
+    } catch (const std::runtime_error&) {
+      throw core::InputError(fmt::format(
+          "{} = \"{}\" (or the command line after '--'): PETSc cannot run these options: {}",
+          options_key, options, last_error_message()));
+    }
+  }
   ~Impl() {
     if (ksp) KSPDestroy(&ksp);
     if (A_free) MatDestroy(&A_free);
@@ -367,7 +385,9 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
     BIOTA_PETSC(PetscOptionsHasName(nullptr, "poisson_", "-pc_pfmg_tol", &pfmg_tol_set));
     if (!pfmg_tol_set) BIOTA_PETSC(PetscOptionsSetValue(nullptr, "-poisson_pc_pfmg_tol", "0"));
   }
-  BIOTA_PETSC(KSPSetFromOptions(m.ksp));
+  m.options = options;
+  m.options_key = options_key;
+  m.options_check([&] { BIOTA_PETSC(KSPSetFromOptions(m.ksp)); });
   if (hidden_pc_type) {
     BIOTA_PETSC(PetscOptionsSetValue(nullptr, "-poisson_pc_type", kGeometricMG));
     PetscBool used = PETSC_FALSE;  // queried again, so it is not reported as unused
@@ -393,12 +413,13 @@ PoissonSolver::PoissonSolver(const grid::Decomposition& decomp, double dx, Press
                                         return 0;
                                       }));
   }
-  BIOTA_PETSC(KSPSetUp(m.ksp));  // builds the preconditioner once; reused while A is unchanged
+  // Builds the preconditioner once; reused while A is unchanged.
+  m.options_check([&] { BIOTA_PETSC(KSPSetUp(m.ksp)); });
   // One trivial solve queries the solve-time options too (-poisson_ksp_view, ...); after it an
   // option nobody asked for is a typo or does not exist for this solver.
   BIOTA_PETSC(VecSet(m.b, 0.0));
   BIOTA_PETSC(VecSet(m.x, 0.0));
-  BIOTA_PETSC(KSPSolve(m.ksp, m.b, m.x));
+  m.options_check([&] { BIOTA_PETSC(KSPSolve(m.ksp, m.b, m.x)); });
   check_unused_options("poisson_", options_key);
 }
 
@@ -463,7 +484,11 @@ SolveStats PoissonSolver::solve(const grid::Field<core::Real>& rhs, grid::Field<
   m.max_test->max_residual = m.explicit_tolerance ? 0.0 : max_residual * m.dx * m.dx;
   m.max_test->stopped = false;
   const double t0 = MPI_Wtime();
-  BIOTA_PETSC(KSPSolve(m.ksp, m.b, m.x));
+  if (m.solved)
+    BIOTA_PETSC(KSPSolve(m.ksp, m.b, m.x));
+  else
+    m.options_check([&] { BIOTA_PETSC(KSPSolve(m.ksp, m.b, m.x)); });
+  m.solved = true;
   st.stopped_on_max_residual = m.max_test->stopped;
   st.seconds = MPI_Wtime() - t0;
   KSPConvergedReason reason;
