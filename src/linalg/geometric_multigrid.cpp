@@ -378,6 +378,8 @@ void GeometricMultigrid::Impl::build_coarse_solve() {
             A[std::size_t(row) * total + gindex(h[0], h[1], h[2])] -= t;
           }
       }
+  // Every row comes from its one owner, the other ranks add zeros: exact in any order, so the
+  // same matrix (and pseudo-inverse) on any rank count.
   MPI_Allreduce(MPI_IN_PLACE, A.data(), static_cast<int>(A.size()), MPI_DOUBLE, MPI_SUM, comm);
   // Pseudo-inverse from the eigen-decomposition (LAPACK through PETSc): drops the constant null
   // vector of the Neumann problem and the empty rows of solid cells alike.
@@ -431,7 +433,7 @@ void GeometricMultigrid::Impl::coarse_solve(Level& v) {
       for (int i = 0; i < v.n.x; ++i, ++r)
         coarse_global[coarse_owned_global[r]] = v.b[v.blk.index(i, j, k)];
   MPI_Allreduce(MPI_IN_PLACE, coarse_global.data(), static_cast<int>(coarse_global.size()),
-                MPI_DOUBLE, MPI_SUM, comm);
+                MPI_DOUBLE, MPI_SUM, comm);  // one owner per entry, as A's rows: exact
   const std::size_t total = coarse_global.size();
   r = 0;
   for (int k = 0; k < v.n.z; ++k)
