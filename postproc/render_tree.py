@@ -29,7 +29,10 @@ if os.path.exists(wind_pvd):
     (wx0, wx1, wy0, wy1, wz0, wz1) = wind.GetDataInformation().GetBounds()
     sl = Slice(Input=wind)
     sl.SliceType.Normal = [0, 1, 0]
-    sl.SliceType.Origin = [centre[0], centre[1] + 0.5 * (y1 - y0) + 0.5, centre[2]]
+    # Just behind the trees, but inside the wind's box: a forest fills the box's whole width,
+    # and a slice on its face is empty (nothing drawn).
+    behind = min(centre[1] + 0.5 * (y1 - y0) + 0.5, wy1 - 0.02 * (wy1 - wy0))
+    sl.SliceType.Origin = [centre[0], behind, centre[2]]
     d = Show(sl, view)
     ColorBy(d, ("CELLS", "velocity", "Magnitude"))
     d.Opacity = 0.7

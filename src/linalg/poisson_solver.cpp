@@ -140,7 +140,8 @@ struct PoissonSolver::Impl {
       throw;
     } catch (const std::runtime_error&) {
       throw core::InputError(fmt::format(
-          "{} = \"{}\" (or the command line after '--'): PETSc cannot run these options: {}",
+          "PETSc cannot run the pressure solve's options ({} = \"{}\" and the command line "
+          "after '--'): {}",
           options_key, options, last_error_message()));
     }
   }
