@@ -12,6 +12,7 @@
 #include "core/allgather.hpp"
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "core/reproducible_sum.hpp"
 #include "core/rng.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_step.hpp"
@@ -529,20 +530,26 @@ void FlockScenario::step() {
 }
 
 void FlockScenario::record_order(const std::vector<NearestPrey>& near) {
-  // Sum of unit velocities of flying prey; an Allreduce, so the CSV (diagnostics only, it does
-  // not feed back) can differ in the last bits between rank counts.
-  double loc[5] = {0, 0, 0, 0, 0};
+  // Sum of unit velocities of flying prey, summed reproducibly: the CSV is the same on any rank
+  // count (it does not feed back; a plain Allreduce differed in the last bits).
+  for (auto& c : unit_) c.clear();
+  long long count[2] = {0, 0};
   for (std::size_t i = 0; i < set_->n_owned(); ++i) {
     const core::GlobalId id = set_->id(i);
     if (!is_prey(id) || !flying(id)) continue;
     const Vec3 v = set_->vec3(a_vel_, i);
     const double s = core::norm(v);
-    if (s > 0) loc[0] += v.x / s, loc[1] += v.y / s, loc[2] += v.z / s;
-    loc[3] += 1;
-    loc[4] += fleeing(id) ? 1 : 0;
+    if (s > 0)
+      unit_[0].push_back(v.x / s), unit_[1].push_back(v.y / s), unit_[2].push_back(v.z / s);
+    count[0] += 1;
+    count[1] += fleeing(id) ? 1 : 0;
   }
   double glob[5];
-  MPI_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, ctx_.comm);
+  for (int c = 0; c < 3; ++c)
+    glob[c] = core::reproducible_sum(unit_[c].data(), unit_[c].size(), ctx_.comm);
+  MPI_Allreduce(MPI_IN_PLACE, count, 2, MPI_LONG_LONG, MPI_SUM, ctx_.comm);
+  glob[3] = static_cast<double>(count[0]);
+  glob[4] = static_cast<double>(count[1]);
   last_flying_ = std::llround(glob[3]);
   last_fleeing_ = std::llround(glob[4]);
   last_phi_ = glob[3] > 0

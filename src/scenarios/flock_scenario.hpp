@@ -9,6 +9,7 @@
 /// and replicated: every rank adds the same grains in the same order, so every rank holds the
 /// same lattice without communication. Everything that feeds the dynamics is
 /// decomposition-invariant to the last bit (see docs/flock.md, "Decomposition invariance").
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <memory>
@@ -191,6 +192,7 @@ class FlockScenario : public Scenario {
   // Statistics.
   int stats_every_ = 1;
   double last_phi_ = 0;
+  std::array<std::vector<double>, 3> unit_;  // record_order's scratch: unit velocities, by axis
   long long last_fleeing_ = 0, last_flying_ = 0;
   io::CsvSeries order_csv_, aval_csv_;
 };
