@@ -122,3 +122,20 @@ TEST(ReproducibleSum, EmptyZeroAndNonFinite) {
   EXPECT_EQ(reproducible_sum(tiny.data(), tiny.size(), MPI_COMM_SELF),
             2 * std::numeric_limits<double>::denorm_min());
 }
+
+TEST(ReproducibleSum, CorrectlyRoundedOverManyFlushes) {
+  // 3 * 2^20 + 7 terms t = 1 + 2^-40 + 2^-52 (several flushes of the lanes on one rank), split
+  // unevenly over the ranks. The exact sum n + n (2^-40 + 2^-52) needs 74 bits; its correctly
+  // rounded value is one rounding of n plus the exactly representable n (2^-40 + 2^-52).
+  const std::uint64_t n = 3 * (std::uint64_t{1} << 20) + 7;
+  const int r = rank_of(MPI_COMM_WORLD), p = size_of(MPI_COMM_WORLD);
+  const std::uint64_t lo = n * std::uint64_t(r) * r / std::uint64_t(p * p),
+                      hi = n * std::uint64_t(r + 1) * (r + 1) / std::uint64_t(p * p);
+  const double t = 1.0 + std::ldexp(1.0, -40) + std::ldexp(1.0, -52);
+  const std::vector<double> x(hi - lo, t);
+  const double small = double(n) * std::ldexp(1.0, -40) + double(n) * std::ldexp(1.0, -52);
+  EXPECT_EQ(reproducible_sum(x.data(), x.size(), MPI_COMM_WORLD), double(n) + small);
+  double plain = 0;  // the plain sum on one rank drifts from it
+  for (std::uint64_t i = 0; i < n; ++i) plain += t;
+  EXPECT_NE(plain, double(n) + small);
+}
