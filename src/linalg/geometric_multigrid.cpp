@@ -94,6 +94,7 @@ struct GeometricMultigrid::Impl {
   // Coarsest level: owned rows of the dense pseudo-inverse, global vector buffer.
   std::vector<double> pinv_rows, coarse_global;
   std::vector<int> coarse_owned_global;  // global index of each owned coarsest cell
+  bool hierarchy_of_one_rank = true;     // the levels' cell counts are those of one rank
 
   void build_fine(const std::vector<char>& solid);
   void build_coarse(int l);
@@ -141,6 +142,13 @@ GeometricMultigrid::GeometricMultigrid(MPI_Comm comm, const core::Index3& cells,
   fine.cells = cells;
   fine.starts = starts;
   const auto shapes = cell_levels(fine, std::max(1, max_levels), kMaxCoarseCells);
+  CellLevel whole;  // the grid as one rank's block
+  whole.cells = cells;
+  for (int a = 0; a < 3; ++a) whole.starts[a] = {0, cells[a]};
+  const auto one_rank = cell_levels(whole, std::max(1, max_levels), kMaxCoarseCells);
+  m.hierarchy_of_one_rank = one_rank.size() == shapes.size();
+  for (std::size_t l = 0; m.hierarchy_of_one_rank && l < shapes.size(); ++l)
+    m.hierarchy_of_one_rank = one_rank[l].cells == shapes[l].cells;
   int dims_arr[3], periods[3], cc[3];
   MPI_Cart_get(comm, 3, dims_arr, periods, cc);
   const core::Index3 dims{dims_arr[0], dims_arr[1], dims_arr[2]};
@@ -187,6 +195,10 @@ GeometricMultigrid::~GeometricMultigrid() = default;
 
 int GeometricMultigrid::levels() const {
   return static_cast<int>(impl_->L.size());
+}
+
+bool GeometricMultigrid::hierarchy_of_one_rank() const {
+  return impl_->hierarchy_of_one_rank;
 }
 
 void GeometricMultigrid::Impl::finish_operator(Level& v) {

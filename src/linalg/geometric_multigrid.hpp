@@ -48,6 +48,11 @@ class GeometricMultigrid {
   /// assembled one (identity rows for solid cells), for CG's products.
   void multiply(const double* x, double* y);
   int levels() const;
+  /// \brief Whether the hierarchy (every level's cell counts) is the one a single rank builds:
+  /// then the V-cycle, and CG around it, give the same bits on this decomposition as on one
+  /// rank (docs/wind.md, "Decomposition invariance"). Thin blocks stop an axis's coarsening
+  /// early.
+  bool hierarchy_of_one_rank() const;
 
  private:
   struct Impl;

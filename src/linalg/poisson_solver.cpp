@@ -450,7 +450,11 @@ std::string PoissonSolver::description() const {
   PCGetType(pc, &pt);
   std::string d = std::string(kt) + " + " + (impl_->gmg ? kGeometricMG : pt);
   if (impl_->gmg)
-    d += " (matrix-free geometric, " + std::to_string(levels_) + " levels)";
+    d += " (matrix-free geometric, " + std::to_string(levels_) + " levels" +
+         (impl_->gmg->hierarchy_of_one_rank()
+              ? ")"
+              : "; thin blocks stopped the coarsening early: results agree with other rank "
+                "counts to the solve's tolerance, not bit for bit)");
   else if (levels_ > 0)
     d += " (cell-centred, " + std::to_string(levels_) + " levels)";
   return d;

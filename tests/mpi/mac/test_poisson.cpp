@@ -152,3 +152,18 @@ TEST(Poisson, UnknownOptionIsAnError) {
                                      "wind.poisson_options"),
                core::InputError);
 }
+
+TEST(Poisson, DescriptionSaysWhenThinBlocksChangeTheHierarchy) {
+  // 5 cells along x split over the ranks: 1 rank and 2 (3 + 2 cells) halve x like one rank does;
+  // 3 ranks (2 + 2 + 1) cannot (a block thinner than two cells), so the hierarchy, and the
+  // bits, differ from one rank's, and the description says so.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  grid::Decomposition d(MPI_COMM_WORLD, {5, 12, 12}, {false, false, false}, {size, 1, 1});
+  linalg::PoissonSolver solver(d, 0.1,
+                               {{{PressureBC::kNeumann, PressureBC::kDirichlet},
+                                 {PressureBC::kNeumann, PressureBC::kNeumann},
+                                 {PressureBC::kNeumann, PressureBC::kNeumann}}});
+  const std::string text = solver.description();
+  EXPECT_EQ(text.find("not bit for bit") != std::string::npos, size == 3) << text;
+}
