@@ -24,15 +24,20 @@ std::string last_message;
 PetscErrorCode record_error(MPI_Comm, int, const char*, const char*, PetscErrorCode code,
                             PetscErrorType type, const char* message, void*) {
   if (type == PETSC_ERROR_INITIAL) {
+    // On one line: its lines joined by "; ", runs of blanks by one space.
     last_message.clear();
-    for (const char* c = message ? message : ""; *c; ++c) {  // its lines joined by one space
-      const bool space = std::isspace(static_cast<unsigned char>(*c));
-      if (!space)
+    std::string gap;
+    for (const char* c = message ? message : ""; *c; ++c) {
+      if (*c == '\n')
+        gap = "; ";
+      else if (std::isspace(static_cast<unsigned char>(*c)))
+        gap = gap.empty() ? " " : gap;
+      else {
+        if (!last_message.empty()) last_message += gap;
+        gap.clear();
         last_message += *c;
-      else if (!last_message.empty() && last_message.back() != ' ')
-        last_message += ' ';
+      }
     }
-    while (!last_message.empty() && last_message.back() == ' ') last_message.pop_back();
   }
   return code;
 }
