@@ -544,17 +544,15 @@ void FlockScenario::record_order(const std::vector<NearestPrey>& near) {
     count[0] += 1;
     count[1] += fleeing(id) ? 1 : 0;
   }
-  double glob[5];
+  double sum[3];
   for (int c = 0; c < 3; ++c)
-    glob[c] = core::reproducible_sum(unit_[c].data(), unit_[c].size(), ctx_.comm);
+    sum[c] = core::reproducible_sum(unit_[c].data(), unit_[c].size(), ctx_.comm);
   MPI_Allreduce(MPI_IN_PLACE, count, 2, MPI_LONG_LONG, MPI_SUM, ctx_.comm);
-  glob[3] = static_cast<double>(count[0]);
-  glob[4] = static_cast<double>(count[1]);
-  last_flying_ = std::llround(glob[3]);
-  last_fleeing_ = std::llround(glob[4]);
-  last_phi_ = glob[3] > 0
-                  ? std::sqrt(glob[0] * glob[0] + glob[1] * glob[1] + glob[2] * glob[2]) / glob[3]
-                  : 0.0;
+  last_flying_ = count[0];
+  last_fleeing_ = count[1];
+  last_phi_ = last_flying_ > 0 ? std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) /
+                                     static_cast<double>(last_flying_)
+                               : 0.0;
   if (decomp_->rank() == 0 && order_csv_.is_open()) {
     const double dnear = near.empty() || near[0].id == kNone ? -1.0 : std::sqrt(near[0].d2);
     order_csv_.row(fmt::format("{},{:.6f},{},{},{:.8f},{:.6f},{},{},{}", step_, time(),
