@@ -43,20 +43,21 @@ void HaloExchange::for_slab(int axis, int start, const std::vector<int>& comps, 
   }
 }
 
-void check_halo_width(const Decomposition& decomp, int ghosts,
-                      const std::array<std::string, 3>& cell_keys) {
+void check_halo_width(const Decomposition& decomp, int ghosts, const GridKeys& keys) {
   for (int d = 0; d < 3; ++d) {
     const int n = decomp.global_cells()[d], dims = decomp.dims()[d];
     // One rank along a periodic axis exchanges with itself: its 2D (1-cell) cases are uniform
     // along that axis, which the self-copy keeps; only distinct neighbours are checked.
     const int thinnest = decomp.thinnest(d);
     if (dims == 1 || thinnest >= ghosts) continue;
+    const std::string key =
+        keys.cells[d].empty() ? fmt::format("cells along {}", "xyz"[d]) : keys.cells[d];
     throw core::InputError(fmt::format(
-        "{} = {} over {} ranks along axis {} ({} ranks in all) gives {}-cell rank blocks, "
+        "{}{} = {} over {} ranks along axis {} ({} ranks in all) gives {}-cell rank blocks, "
         "thinner than the {}-cell halo; use at least {} cells per rank along that axis (at most "
         "{} ranks) or more cells",
-        cell_keys[d], n, dims, d, decomp.size(), thinnest, ghosts, ghosts,
-        std::max(1, n / ghosts)));
+        keys.source.empty() ? "" : keys.source + ": ", key, n, dims, d, decomp.size(), thinnest,
+        ghosts, ghosts, std::max(1, n / ghosts)));
   }
 }
 

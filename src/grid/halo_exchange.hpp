@@ -26,11 +26,9 @@ FaceComponents all_components(int ncomp);
 
 /// \brief Throws core::InputError (the same on every rank, so no rank is left in a collective)
 /// when some rank's block along an axis with neighbours is thinner than `ghosts` cells: the
-/// neighbour would pack its own stale ghosts into our halo. `cell_keys` names the deck keys that
+/// neighbour would pack its own stale ghosts into our halo. `keys` names the deck and the keys that
 /// set the cell counts per axis (for the message).
-void check_halo_width(const Decomposition& decomp, int ghosts,
-                      const std::array<std::string, 3>& cell_keys = {
-                          "cells along x", "cells along y", "cells along z"});
+void check_halo_width(const Decomposition& decomp, int ghosts, const GridKeys& keys = {});
 
 /// \brief Fills the ghost layers of one field from its neighbours (and periodic images).
 class HaloExchange {

@@ -450,7 +450,8 @@ std::string PoissonSolver::description() const {
   PCGetType(pc, &pt);
   std::string d = std::string(kt) + " + " + (impl_->gmg ? kGeometricMG : pt);
   if (impl_->gmg)
-    d += " (matrix-free geometric, " + std::to_string(levels_) + " levels" +
+    d += " (matrix-free geometric, " + std::to_string(levels_) +
+         (levels_ == 1 ? " level" : " levels") +
          (impl_->gmg->hierarchy_of_one_rank()
               ? ")"
               : "; thin blocks stopped the coarsening early: results agree with other rank "

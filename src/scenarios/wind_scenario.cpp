@@ -140,11 +140,10 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
   linalg::initialize(ctx.solver_options);
   std::array<bool, 3> periodic;
   for (int a = 0; a < 3; ++a) periodic[a] = p.boundaries[a][0].type == BoundaryType::kPeriodic;
-  decomp_ = std::make_unique<grid::Decomposition>(
-      ctx.comm, p.cells, periodic, core::Index3{0, 0, 0},
-      grid::GridKeys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}});
-  grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts,
-                         {"wind.nx", "wind.ny", "wind.nz"});
+  const grid::GridKeys keys{ctx.config.source(), {"wind.nx", "wind.ny", "wind.nz"}};
+  decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, p.cells, periodic,
+                                                  core::Index3{0, 0, 0}, keys);
+  grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts, keys);
   out_layout_ = grid_output_layout(ctx.config, *decomp_, p.dx, {0, 0, 0});
   {
     // MAC fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with 2 ghost layers, and

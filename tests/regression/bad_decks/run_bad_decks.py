@@ -144,6 +144,10 @@ CASES = [
      "preonly\" and the command line after '--'): Running KSP of preonly"),
     ("PETSc rejects the solver, 3 ranks", TREE, ["--", "-poisson_ksp_type", "preonly"],
      "PETSc cannot run the pressure solve's options (wind.poisson_options = \"\"", 3),
+    # Blocks thinner than the wind's 2-cell halo (7 ranks: 10 cells along z, the only cut).
+    ("wind blocks thinner than the halo", TREE, [],
+     ".toml: wind.nz = 10 over 7 ranks along axis 2 (7 ranks in all) gives 1-cell rank "
+     "blocks, thinner than the 2-cell halo", 7),
 ]
 
 failures = 0
