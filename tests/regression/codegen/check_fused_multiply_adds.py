@@ -15,38 +15,28 @@ becomes one vfmaddsub / vfmsubadd even with -ffp-contract=off (`-fdump-tree-slp2
   (inlined into biota::models::flock and FlockScenario).
 Reads the disassembly only; times nothing. Exit 77 (skipped) off x86-64 or without objdump.
 Usage: check_fused_multiply_adds.py <biota>"""
-import platform
 import re
-import shutil
-import subprocess
 import sys
 
-if platform.machine() not in ("x86_64", "AMD64") or not shutil.which("objdump"):
-    print("not x86-64 or no objdump: skipped")
-    sys.exit(77)
-dis = subprocess.run(["objdump", "-d", "-C", "--no-show-raw-insn", sys.argv[1]],
-                     capture_output=True, text=True, check=True).stdout
+from disassembly import functions
 
 WRITTEN_FMA = ("biota::solvers::lbm::", "biota::models::flock::", "biota::scenarios::FlockScenario::")
 fma = re.compile(r"\t(vfn?m(?:add|sub)(?:sub|add)?\d*[ps][sd])\b")
 addsub = re.compile(r"^vfm(?:addsub|subadd)")
 
-function, ours, written = None, False, False
-found = {}  # function -> set of FMA mnemonics that should not be there
+found = {}  # function -> the FMA mnemonics that should not be there
 total = 0
-for line in dis.splitlines():
-    head = re.match(r"^[0-9a-f]+ <(.*)>:$", line)
-    if head:
-        function = head.group(1)
-        ours = "biota::" in function
-        written = any(p in function for p in WRITTEN_FMA)
+for function, lines in functions(sys.argv[1]):
+    if "biota::" not in function:
         continue
-    m = fma.search(line) if ours else None
-    if not m:
-        continue
-    total += 1
-    if addsub.match(m.group(1)) or not written:
-        found.setdefault(function, set()).add(m.group(1))
+    written = any(p in function for p in WRITTEN_FMA)
+    for line in lines:
+        m = fma.search(line)
+        if not m:
+            continue
+        total += 1
+        if addsub.match(m.group(1)) or not written:
+            found.setdefault(function, set()).add(m.group(1))
 for function, mnemonics in sorted(found.items()):
     print(f"FAIL: {', '.join(sorted(mnemonics))} in {function[:300]}")
 if found:

@@ -10,17 +10,10 @@ GCC drops a prefetch silently when it sits in a function that does nothing else,
 could lose one with every test still green. Reads the disassembly only; times nothing. Exit 77
 (skipped) off x86-64 or without objdump.
 Usage: check_prefetch.py <biota>"""
-import platform
 import re
-import shutil
-import subprocess
 import sys
 
-if platform.machine() not in ("x86_64", "AMD64") or not shutil.which("objdump"):
-    print("not x86-64 or no objdump: skipped")
-    sys.exit(77)
-dis = subprocess.run(["objdump", "-d", "-C", "--no-show-raw-insn", sys.argv[1]],
-                     capture_output=True, text=True, check=True).stdout
+from disassembly import functions
 
 
 def is_lbm_sweep(name):
@@ -31,17 +24,8 @@ def is_joint_gather(name):
     return name.startswith("biota::models::plants::SeaweedBodies::block_forces(")
 
 
-counts = {}
-current = None
-for line in dis.splitlines():
-    head = re.match(r"^[0-9a-f]+ <(.*)>:$", line)
-    if head:
-        name = head.group(1)
-        current = name if is_lbm_sweep(name) or is_joint_gather(name) else None
-        if current:
-            counts[current] = 0
-    elif current and re.search(r"\tprefetch", line):
-        counts[current] += 1
+counts = {name: sum(1 for line in lines if re.search(r"\tprefetch", line))
+          for name, lines in functions(sys.argv[1]) if is_lbm_sweep(name) or is_joint_gather(name)}
 sweeps = {n: c for n, c in counts.items() if is_lbm_sweep(n)}
 gathers = {n: c for n, c in counts.items() if is_joint_gather(n)}
 failures = []
