@@ -19,6 +19,7 @@
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/mpi_io_workaround.hpp"
+#include "core/revision.hpp"
 #include "linalg/petsc_environment.hpp"
 #include "scenarios/scenario.hpp"
 
@@ -84,12 +85,13 @@ std::string version_text() {
   unsigned maj = 0, min = 0, rel = 0;
   H5get_libversion(&maj, &min, &rel);
   return fmt::format(
-      "biota {} ({} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n  VTK: {}\n  "
+      "biota {} (revision {}, {} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n "
+      " VTK: {}\n  "
       "toml++: "
       "{}.{}.{}\n  fmt: {}\n  compiler: {}\n  instructions: {}",
-      BIOTA_VERSION, BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel, linalg::version(),
-      vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR, TOML_LIB_PATCH, FMT_VERSION,
-      __VERSION__, kInstructions);
+      BIOTA_VERSION, core::revision(), BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel,
+      linalg::version(), vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR,
+      TOML_LIB_PATCH, FMT_VERSION, __VERSION__, kInstructions);
 }
 
 // The deck names its scenario; read just that key so the full schema can be assembled.
@@ -251,7 +253,9 @@ int main(int argc, char** argv) {
       auto info = scenario_of(deck, overrides);
       auto schema = schema_for(info);
       auto cfg = core::Config::from_file(schema, deck, overrides);
-      if (root) fmt::print("# effective configuration of {}\n{}\n", deck, cfg.effective_toml());
+      if (root)
+        fmt::print("# effective configuration of {} (biota {}, revision {})\n{}\n", deck,
+                   BIOTA_VERSION, core::revision(), cfg.effective_toml());
       if (*check) {
         // Build the scenario (no output) so that derived checks (tau, Mach, ...) run too.
         core::Timers timers;

@@ -41,6 +41,10 @@ with tempfile.TemporaryDirectory() as tmp:
     p = subprocess.run([BIOTA, "--version"], capture_output=True, text=True)
     expect(p.returncode == 0 and "HDF5" in p.stdout and "VTK" in p.stdout
            and "instructions: " in p.stdout, "biota --version")
+    # The git revision (or "unknown" outside a clone) names the code in the run and its files.
+    m = re.search(r"\(revision (\S+),", p.stdout)
+    expect(m is not None, "biota --version names the revision")
+    revision = m.group(1) if m else "no revision"
 
     p = run(3, ["run", DECK, "--set", "run.steps=40"] + small)
     expect(p.returncode == 0, f"tank on 3 ranks exits 0 (got {p.returncode}: {p.stderr[-400:]})")
@@ -54,6 +58,12 @@ with tempfile.TemporaryDirectory() as tmp:
         expect(f.read().count("<DataSet") == 3, ".pvd lists 3 steps")
     expect(os.path.exists(f"{tmp}/ckpt/tank_00000020.h5"), "interval checkpoint at step 20")
     expect(not glob.glob(f"{tmp}/ckpt/*.tmp"), "no temporary checkpoint left behind")
+    expect(f"revision {revision})" in p.stdout, "the run's first line names the revision")
+    for path in (f"{tmp}/out/tank_000040.h5", f"{tmp}/ckpt/tank_00000020.h5"):
+        with open(path, "rb") as f:
+            data = f.read()
+        expect(b"biota_revision" in data and revision.encode() in data,
+               f"{os.path.basename(path)} holds the attribute biota_revision = {revision}")
 
     p = run(2, ["run", DECK, "--set", "run.steps=40", "--restart", f"{tmp}/ckpt/tank_00000020.h5"] + small)
     expect(p.returncode == 0 and "restarted from" in p.stdout and "step 20" in p.stdout,
