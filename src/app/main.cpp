@@ -85,10 +85,15 @@ std::string version_text() {
   unsigned maj = 0, min = 0, rel = 0;
   H5get_libversion(&maj, &min, &rel);
   return fmt::format(
-      "biota {} (revision {}, {} build, {})\n  MPI: {}\n  HDF5: {}.{}.{} (parallel)\n  PETSc: {}\n "
-      " VTK: {}\n  "
-      "toml++: "
-      "{}.{}.{}\n  fmt: {}\n  compiler: {}\n  instructions: {}",
+      "biota {} (revision {}, {} build, {})\n"
+      "  MPI: {}\n"
+      "  HDF5: {}.{}.{} (parallel)\n"
+      "  PETSc: {}\n"
+      "  VTK: {}\n"
+      "  toml++: {}.{}.{}\n"
+      "  fmt: {}\n"
+      "  compiler: {}\n"
+      "  instructions: {}",
       BIOTA_VERSION, core::revision(), BIOTA_BUILD_TYPE, __DATE__, mpi_line, maj, min, rel,
       linalg::version(), vtkVersion::GetVTKVersion(), TOML_LIB_MAJOR, TOML_LIB_MINOR,
       TOML_LIB_PATCH, FMT_VERSION, __VERSION__, kInstructions);
