@@ -58,9 +58,8 @@ WriteFile::WriteFile(std::string path, MPI_Comm comm, std::string what)
     : path_(std::move(path)), what_(std::move(what)), comm_(comm) {
   MPI_Comm_rank(comm_, &rank_);
   file_ = h5::create_parallel(path_, comm_);
-  try {
-    h5::write_string_attribute(file_, "biota_revision",
-                               core::revision());  // the file names its code
+  try {  // every file names the code that wrote it
+    h5::write_string_attribute(file_, "biota_revision", core::revision());
   } catch (...) {
     discard();  // the destructor of a half-built object does not run
     throw;

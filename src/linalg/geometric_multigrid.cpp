@@ -476,10 +476,6 @@ void GeometricMultigrid::Impl::vcycle(int l) {
   }
   v.halo->exchange(v.x);
   multigrid::residual(v);
-  for (int k = 0; k < v.n.z; ++k)
-    for (int j = 0; j < v.n.y; ++j)
-      std::copy_n(v.r.data() + v.blk.index(0, j, k), v.n.x,
-                  v.r_wide.data() + v.wide.index(0, j, k));
   v.wide_halo->exchange(v.r_wide);
   Level& c = L[l + 1];
   multigrid::restrict_to(v, c);

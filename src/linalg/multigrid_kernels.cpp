@@ -97,19 +97,19 @@ void smooth_from_zero(Level& v, double omega) {
 void residual(Level& v) {
   const Stencil st(v);
   const double *b = v.b.data(), *d = v.diag.data(), *x = v.x.data();
-  double* r = v.r.data();
   const char* cell_regular = v.regular_cell.data();
   const int nx = v.n.x;
   for (int k = 0; k < v.n.z; ++k)
     for (int j = 0; j < v.n.y; ++j) {
       const auto row = v.blk.index(0, j, k);
+      double* r = v.r_wide.data() + v.wide.index(0, j, k);  // the row in the two-layer block
       auto general = [&](int i) {
         const auto q = row + i;
-        r[q] = d[q] > 0 ? b[q] - (d[q] * x[q] - st.general(x, q)) : 0.0;
+        r[i] = d[q] > 0 ? b[q] - (d[q] * x[q] - st.general(x, q)) : 0.0;
       };
       auto regular = [&](int i) {
         const auto q = row + i;
-        r[q] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
+        r[i] = b[q] - (st.rdiag * x[q] - st.regular(x, q));
       };
       auto either = [&](int i) { cell_regular[row + i] ? regular(i) : general(i); };
       if (v.regular_row[j + std::size_t(v.n.y) * k] && nx > 2) {
@@ -157,7 +157,7 @@ void multiply(Level& v, const double* in, double* out) {
 
 void restrict_to(Level& f, Level& c) {
   // Separable: along x for every fine row (two layers of ghost rows too), then y, then z, from
-  // the residual with two ghost layers (Level::r_wide, filled by the caller).
+  // the residual with two ghost layers (Level::r_wide: residual() and the caller's exchange).
   const int ncx = c.n.x, ncy = c.n.y, nfy4 = f.n.y + 4;
   {
     const int *i0 = f.r_index[0][0].data(), *i1 = f.r_index[0][1].data(),

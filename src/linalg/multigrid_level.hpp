@@ -36,9 +36,9 @@ struct Level {
   // index (local coarse index, -1 and n allowed; a missing second cell has weight 0), and its
   // transpose, the restriction from four fine cells per owned coarse index (local fine index,
   // -2 to n + 1: where a block starts at an odd index, a coarse cell's fine cells 2c - 1 .. 2c + 2
-  // reach two cells into the next block). The restriction reads the residual from `r_wide`,
-  // a copy of `r` with two ghost layers (`wide`, `wide_halo`), so every coarse cell gets the
-  // same four terms in the same order as on one rank.
+  // reach two cells into the next block). The residual is written to `r_wide`, which has two
+  // ghost layers (`wide`, `wide_halo`), so every coarse cell gets the same four terms in the same
+  // order as on one rank.
   std::array<std::array<std::vector<int>, 2>, 3> p_index;
   std::array<std::array<std::vector<double>, 2>, 3> p_weight;
   std::array<std::array<std::vector<int>, 4>, 3> r_index;
@@ -63,9 +63,11 @@ struct Level {
 void smooth(Level& v, int colour, double omega);
 /// \brief The first red half-sweep from x = 0; writes every owned cell.
 void smooth_from_zero(Level& v, double omega);
-/// \brief r = b - A x on owned cells (0 on empty rows). Ghosts of x must be current.
+/// \brief r_wide = b - A x on owned cells (0 on empty rows), on a level that restricts. Ghosts
+/// of x must be current; those of r_wide are the caller's (wide_halo).
 void residual(Level& v);
-/// \brief c.b = R f.r (R = transpose of the interpolation). Ghosts of f.r must be current.
+/// \brief c.b = R f.r_wide (R = transpose of the interpolation). Both ghost layers of f.r_wide
+/// must be current.
 void restrict_to(Level& f, Level& c);
 /// \brief f.x += P c.x on fluid cells. Ghosts of c.x must be current; uses c.r as work space.
 void prolong_add(Level& c, Level& f);
