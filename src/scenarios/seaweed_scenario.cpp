@@ -40,7 +40,7 @@ void SeaweedScenario::declare_config(core::ConfigSchema& s) {
              "minimum distance between seeds");
   s.add_bool("seaweed.two_way", true, "plants act back on the water (false: the paper's one-way)");
   s.add_real("seaweed.physics_dt", 1.0 / 60, 0.0, std::nullopt, "s", "physics step", true);
-  s.add_real("seaweed.balance.sphere_cost", 50.0, 0.0, 1e6, "LBM cells",
+  s.add_real("seaweed.balance.sphere_cost", 25.0, 0.0, 1e6, "LBM cells",
              "work of one sphere's physics step as the number of fluid cells whose physics step "
              "costs the same; the cut between the ranks minimises the most cells on a rank plus "
              "this times the most spheres on a rank (0: equal cells)");
