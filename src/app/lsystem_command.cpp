@@ -60,7 +60,16 @@ int run_lsystem_command(const LSystemCommandOptions& opt, bool root) {
   d.seed = opt.seed;
   d.tree_id = opt.tree_id;
   d.max_modules = static_cast<std::size_t>(opt.max_modules);
-  const auto s = mp::derive(ls, d);
+  const auto s = [&] {
+    try {
+      return mp::derive(ls, d);
+    } catch (const mp::ModuleCapError& e) {
+      throw core::InputError(fmt::format(
+          "{} (--max-modules); allowed: at most {} derivations (--derivations) with this cap, or "
+          "raise --max-modules",
+          e.what(), e.derivation() - 1));
+    }
+  }();
   const auto g = mp::interpret(ls, s);
   if (!root) return 0;
   std::map<char, long long> count;

@@ -196,6 +196,12 @@ TreeScenario::TreeScenario(const RunContext& ctx) : WindScenario(ctx) {
     if (pcomm_->owner_of(s.base) != decomp_->rank()) continue;
     try {
       trees_.push_back(mp::build_tree(species[s.species], s, p, max_modules));
+    } catch (const mp::ModuleCapError& e) {
+      const std::string key = sp_key(s.species, "derivations");
+      throw core::InputError(fmt::format(
+          "{}: {} = {}: {} (tree.max_modules); allowed: at most {} derivations with this cap, or "
+          "raise tree.max_modules (at most 1000000000)",
+          cfg.source(), key, cfg.get_int(key), e.what(), e.derivation() - 1));
     } catch (const std::invalid_argument& e) {
       throw core::InputError(
           fmt::format("{}: {} ({})", cfg.source(), e.what(), sp_key(s.species, "lsystem")));

@@ -145,10 +145,9 @@ ModuleString derive(const LSystem& ls, const DeriveOptions& opt) {
       }
       if (!applied) next.push(cur.sym[i], cur.param(i), cur.nparam[i]);
       if (next.size() > opt.max_modules)
-        throw core::InputError(fmt::format(
-            "{}: derivation {} of {} exceeds the module cap of {} (lsystem max_modules); lower "
-            "the derivations or raise the cap",
-            ls.file, d + 1, steps, opt.max_modules));
+        throw ModuleCapError(fmt::format("{}: derivation {} of {} exceeds the module cap of {}",
+                                         ls.file, d + 1, steps, opt.max_modules),
+                             d + 1);
     }
     std::swap(cur, next);
   }

@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/error.hpp"
 #include "models/plants/lsystem_expr.hpp"
 
 namespace biota::models::plants {
@@ -93,7 +94,20 @@ struct DeriveOptions {
   int derivations = -1;  ///< < 0: the file's `derivations:`
   std::uint64_t seed = 1;
   std::uint64_t tree_id = 0;
-  std::size_t max_modules = 10'000'000;  ///< a longer string stops with core::InputError
+  std::size_t max_modules = 10'000'000;  ///< a longer string stops with ModuleCapError
+};
+
+/// \brief A derivation grew past DeriveOptions::max_modules: `file: derivation d of n exceeds the
+/// module cap of N`. The caller knows which deck key or option set the cap and the derivations,
+/// and names them; derivations() - 1 is the most that fit.
+class ModuleCapError : public core::InputError {
+ public:
+  ModuleCapError(const std::string& message, int derivation)
+      : core::InputError(message), derivation_(derivation) {}
+  int derivation() const { return derivation_; }  ///< the first derivation over the cap (1-based)
+
+ private:
+  int derivation_;
 };
 
 /// \brief Apply the productions `derivations` times to the axiom (ABOP parallel rewriting: in

@@ -120,6 +120,10 @@ CASES = [
                                           "tree.contact_stiffness=1e6"], "tree.contact_stiffness"),
     ("missing L-system file", TREE.replace("{tmp}/paper_fig1.lsys", "{tmp}/nope.lsys"), [],
      "tree.species1.lsystem"),
+    # 73 modules after 2 derivations, 13 after 1: the deck's keys and the most that fit.
+    ("tree module cap", TREE, ["--set", "tree.max_modules=50"],
+     "tree.species1.derivations = 2: " + "{tmp}/paper_fig1.lsys: derivation 2 of 2 exceeds the "
+     "module cap of 50 (tree.max_modules); allowed: at most 1 derivations with this cap"),
     # Issue 12: output.region must select a cell of the domain (0.08 m tank here); region and
     # stride apply to grid fields, not to the flock.
     ("output region outside", GOOD, ["--set", "output.region=[1, 1, 1, 2, 2, 2]"],
@@ -165,6 +169,7 @@ with tempfile.TemporaryDirectory() as tmp:
         cmd = [MPIEXEC, "-n", str(np[0] if np else 2), BIOTA, "run", deck] + extra
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
         err_lines = [l for l in p.stderr.splitlines() if l.startswith("biota: error:")]
+        needle = needle.replace("{tmp}", tmp)
         ok = p.returncode == 2 and len(err_lines) == 1 and needle in err_lines[0] \
             and not os.path.exists(os.path.join(out, "tank.pvd")) \
             and not os.path.exists(os.path.join(out, "flock_order.csv"))

@@ -43,6 +43,7 @@ with tempfile.TemporaryDirectory() as tmp:
     expect(len(err) == 1 and f"{bad}:3:12: unbalanced brackets" in err[0], f"one line: {err}")
     p = subprocess.run([BIOTA, "lsystem", fig1, "--derivations", "9", "--max-modules", "100000"],
                        capture_output=True, text=True)
-    expect(p.returncode == 2 and "module cap of 100000" in p.stderr, "module cap: exit 2")
+    expect(p.returncode == 2 and "derivation 7 of 9 exceeds the module cap of 100000 (--max-modules); "
+           "allowed: at most 6 derivations" in p.stderr, f"module cap: exit 2, names the options ({p.stderr})")
 
 sys.exit(1 if failures else 0)
