@@ -121,7 +121,11 @@ TreeScenario::TreeScenario(const RunContext& ctx) : WindScenario(ctx) {
                                                  "relative to the deck's directory and to the "
                                                  "working directory)",
                                                  cfg.get_string(sp_key(k, "lsystem"))));
-    species[k].lsystem = mp::read_lsystem(f.string());
+    try {
+      species[k].lsystem = mp::read_lsystem(f.string());
+    } catch (const core::InputError& e) {  // file:line:col: what, under the key that named it
+      cfg.fail(sp_key(k, "lsystem"), fmt::format("is not a valid L-system: {}", e.what()));
+    }
     species[k].seed = static_cast<std::uint64_t>(cfg.get_int(sp_key(k, "seed")));
     species[k].derivations = static_cast<int>(cfg.get_int(sp_key(k, "derivations")));
     species[k].height = cfg.get_real(sp_key(k, "height"));

@@ -120,6 +120,9 @@ CASES = [
                                           "tree.contact_stiffness=1e6"], "tree.contact_stiffness"),
     ("missing L-system file", TREE.replace("{tmp}/paper_fig1.lsys", "{tmp}/nope.lsys"), [],
      "tree.species1.lsystem"),
+    ("bad L-system grammar", TREE.replace("{tmp}/paper_fig1.lsys", "{tmp}/bad.lsys"), [],
+     'tree.species1.lsystem = "{tmp}/bad.lsys" is not a valid L-system: {tmp}/bad.lsys:1:1: '
+     "expected an 'axiom:' line"),
     # 73 modules after 2 derivations, 13 after 1: the deck's keys and the most that fit.
     ("tree module cap", TREE, ["--set", "tree.max_modules=50"],
      "tree.species1.derivations = 2: " + "{tmp}/paper_fig1.lsys: derivation 2 of 2 exceeds the "
@@ -158,6 +161,8 @@ failures = 0
 with tempfile.TemporaryDirectory() as tmp:
     with open(os.path.join(tmp, "paper_fig1.lsys"), "w") as f:
         f.write("axiom: F\nangle: 20\nF -> F[+F]F[-F][F]\n")
+    with open(os.path.join(tmp, "bad.lsys"), "w") as f:
+        f.write("F -> F[+F]F\n")
     for i, (name, text, extra, needle, *np) in enumerate(CASES):
         out = os.path.join(tmp, f"out{i}")
         deck = os.path.join(tmp, f"deck{i}.toml")
