@@ -114,14 +114,32 @@ TerrainMesh read_obj_terrain(const std::string& path, const std::vector<PaletteC
   }
 
   const double diag2 = core::dot(hi - lo, hi - lo);
+  const long long nt = static_cast<long long>(attrib.texcoords.size() / 2);
   for (const auto& shape : reader.GetShapes()) {
     const auto& idx = shape.mesh.indices;
     for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+      const std::size_t face = mesh.triangles.size() + 1;
+      // tinyobjloader passes indices past the lists through unchecked: a face naming vertex 999
+      // of 50 would read past the arrays.
       std::array<int, 3> t{};
       double u = 0, v = 0;
       bool have_uv = true;
       for (int k = 0; k < 3; ++k) {
         const auto& ix = idx[3 * f + k];
+        if (ix.vertex_index < 0)
+          throw InputError(
+              fmt::format("{}: face {} (shape '{}') has a relative vertex index "
+                          "before the first vertex; allowed: -1 to -(vertices so far)",
+                          path, face, shape.name));
+        if (static_cast<std::size_t>(ix.vertex_index) >= nv)
+          throw InputError(fmt::format(
+              "{}: face {} (shape '{}') names vertex {}; allowed: 1 to {} (the file's vertices)",
+              path, face, shape.name, static_cast<long long>(ix.vertex_index) + 1, nv));
+        if (ix.texcoord_index >= nt)
+          throw InputError(fmt::format(
+              "{}: face {} (shape '{}') names texture coordinate {}; "
+              "allowed: 1 to {} (the file's vt lines)",
+              path, face, shape.name, static_cast<long long>(ix.texcoord_index) + 1, nt));
         t[k] = ix.vertex_index;
         if (ix.texcoord_index < 0) {
           have_uv = false;
@@ -130,7 +148,6 @@ TerrainMesh read_obj_terrain(const std::string& path, const std::vector<PaletteC
           v += attrib.texcoords[2 * ix.texcoord_index + 1] / 3.0;
         }
       }
-      const std::size_t face = mesh.triangles.size() + 1;
       const Vec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
       const double area2 = core::norm(core::cross(b - a, c - a));
       if (!(area2 > 2e-12 * diag2))

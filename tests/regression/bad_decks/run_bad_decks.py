@@ -61,7 +61,10 @@ dir = "{out}"
 dir = "{out}/ckpt"
 [moss.terrain]
 file = "%s"
-""" % os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input", "moss", "scene.obj")
+"""
+MOSS_TERRAIN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input", "moss",
+                            "scene.obj")
+MOSS = MOSS % MOSS_TERRAIN
 
 # (name, deck text or None for a missing file, extra args, substring the message must contain
 #  [, MPI ranks, default 2])
@@ -139,6 +142,9 @@ CASES = [
     # Issue 10: the moss scenario's terrain and weather keys.
     ("moss terrain missing", MOSS, ["--set", 'moss.terrain.file="/nonexistent/terrain.obj"'],
      "moss.terrain.file = \"/nonexistent/terrain.obj\" cannot be used"),
+    # A face naming a vertex past the file's (tinyobjloader passes it through): was a crash.
+    ("moss terrain face index", MOSS.replace(MOSS_TERRAIN, "{tmp}/far.obj"), [],
+     "far.obj: face 1 (shape '') names vertex 999; allowed: 1 to 3 (the file's vertices)", 3),
     ("moss sunshine above possible", MOSS, ["--set", "moss.weather.sunshine=9.0"], "moss.weather.sunshine"),
     ("moss soil reflectance above 1", MOSS, ["--set", "moss.soil.reflectance=[0.2, 1.5, 0.2]"],
      "moss.soil.reflectance"),
@@ -161,6 +167,8 @@ failures = 0
 with tempfile.TemporaryDirectory() as tmp:
     with open(os.path.join(tmp, "paper_fig1.lsys"), "w") as f:
         f.write("axiom: F\nangle: 20\nF -> F[+F]F[-F][F]\n")
+    with open(os.path.join(tmp, "far.obj"), "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 999\n")
     with open(os.path.join(tmp, "bad.lsys"), "w") as f:
         f.write("F -> F[+F]F\n")
     for i, (name, text, extra, needle, *np) in enumerate(CASES):

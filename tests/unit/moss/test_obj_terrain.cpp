@@ -89,6 +89,13 @@ TEST(ObjTerrain, BadMeshes) {
   expect_error(write("nan.obj", std::string("v nan 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n")),
                "not a finite number");
   expect_error(write("degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"), "degenerate");
+  // Indices past the lists (tinyobjloader passes them through; reading them crashed the run).
+  expect_error(write("far.obj", std::string(kTri) + "f 1 2 999\n"),
+               "face 1 (shape '') names vertex 999; allowed: 1 to 3");
+  expect_error(write("before.obj", std::string(kTri) + "f 1 2 -9\n"),
+               "relative vertex index before the first vertex");
+  expect_error(write("farvt.obj", std::string(kTri) + "vt 0 0\nf 1/1 2/1 3/7\n"),
+               "names texture coordinate 7; allowed: 1 to 1");
   write("badtex.mtl", "newmtl t\nKd 1 1 1\nmap_Kd nothere.png\n");
   expect_error(write("badtex.obj", std::string("mtllib badtex.mtl\nusemtl t\n") + kTri +
                                        "vt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n"),
