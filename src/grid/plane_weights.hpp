@@ -15,7 +15,8 @@
 namespace biota::grid {
 
 /// \brief See file comment. Planes are cells of `dx` from `origin`; a point outside the grid
-/// counts for the nearest end plane. Axes the rank grid `dims` does not split keep no planes.
+/// counts for the nearest end plane
+/// (a NaN one for the first). Axes the rank grid `dims` does not split keep no planes.
 class PlaneWeights {
  public:
   PlaneWeights(const core::Index3& dims, const core::Index3& cells, double dx,
@@ -30,8 +31,10 @@ class PlaneWeights {
     for (int a = 0; a < 3; ++a) {
       auto& p = planes_[a];
       if (p.empty()) continue;
+      // A NaN coordinate counts for plane 0 (std::clamp passes NaN through, and its cast
+      // to an index wrote past the planes).
       const double c = std::floor((x[a] - origin_[a]) / dx_);
-      p[static_cast<std::size_t>(std::clamp(c, 0.0, static_cast<double>(p.size() - 1)))] += w;
+      p[c > 0 ? static_cast<std::size_t>(std::min(c, static_cast<double>(p.size() - 1))) : 0] += w;
     }
   }
 

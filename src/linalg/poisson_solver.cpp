@@ -505,6 +505,11 @@ SolveStats PoissonSolver::solve(const grid::Field<core::Real>& rhs, grid::Field<
   BIOTA_PETSC(KSPGetResidualNorm(m.ksp, &rn));
   st.iterations = static_cast<int>(its);
   st.residual_norm = rn;
+  if (reason == KSP_DIVERGED_NANORINF)  // the flow blew up before the solve (exit code 3)
+    throw core::UnstableError(fmt::format(
+        "the pressure solve met non-finite values (KSP {} after {} iterations): the flow has "
+        "blown up",
+        KSPConvergedReasons[reason], its));
   if (reason < 0)
     throw std::runtime_error(
         "Poisson solve did not converge: " + std::string(KSPConvergedReasons[reason]) + " after " +

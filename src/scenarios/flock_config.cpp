@@ -1,9 +1,76 @@
-// Deck keys of the flock scenario (schema: type, default, range, unit, doc per key).
+// Deck keys of the flock scenario (schema: type, default, range, unit, doc per key) and the
+// checks between them.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "scenarios/flock_scenario.hpp"
 
 namespace biota::scenarios {
+
+void FlockScenario::check_scales(const core::Config& c, const grid::Decomposition& decomp,
+                                 double dx) {
+  const double radius = c.get_real("flock.boids.perception_radius"), dt = c.get_real("flock.dt");
+  // The ghost layer is one radius deep and comes from the neighbouring block only.
+  for (int d = 0; d < 3; ++d)
+    if (decomp.dims()[d] > 1 && radius > decomp.thinnest(d) * dx)
+      c.fail("flock.boids.perception_radius",
+             fmt::format("m is wider than the thinnest rank block ({} m along axis {} with {} "
+                         "ranks along it); allowed: at most {} m, or fewer ranks",
+                         decomp.thinnest(d) * dx, d, decomp.dims()[d], decomp.thinnest(d) * dx));
+  // OrderedCellList bins a rank's points and ghosts in cubes of edge radius / reach, at most
+  // 2^26 of them.
+  const int reach = static_cast<int>(c.get_int("flock.domain.bin_reach"));
+  double widest[3];
+  for (int d = 0; d < 3; ++d) {
+    int cells = 0;
+    for (int i = 0; i < decomp.dims()[d]; ++i)
+      cells = std::max(cells, decomp.block_start_of(d, i + 1) - decomp.block_start_of(d, i));
+    widest[d] = cells * dx;
+  }
+  const auto bins = [&](double r) {
+    double n = 1;
+    for (double w : widest) n *= std::floor((w + 2 * r) * reach / r) + 2;
+    return n;
+  };
+  constexpr double kMaxBins = 67108864;  // 2^26
+  if (bins(radius) > kMaxBins) {
+    double lo = radius, hi = radius;  // the least radius within the cap, to 1%
+    while (bins(hi) > kMaxBins) hi *= 2;
+    while (hi > 1.01 * lo) (bins(std::sqrt(lo * hi)) > kMaxBins ? lo : hi) = std::sqrt(lo * hi);
+    c.fail("flock.boids.perception_radius",
+           fmt::format("m gives about {:.3g} cell-list bins of edge radius / "
+                       "flock.domain.bin_reach on a rank; allowed: at least {:.3g} m (at most "
+                       "2^26 bins) on this rank grid, or more ranks",
+                       bins(radius), hi));
+  }
+  // Per frame a boid moves less than its perception radius: a faster one could pass through a
+  // neighbour's whole perception sphere unseen (and a speed of 1e300 m/s put boids where no
+  // cell list could bin them).
+  const double noise = c.get_real("flock.noise.max_speed");
+  const double prey_top = c.get_real("flock.boids.max_speed") * (1 + noise);
+  if (prey_top * dt > radius)
+    c.fail("flock.boids.max_speed",
+           fmt::format(
+               "m/s moves a prey up to {:.6g} m per frame (with flock.noise.max_speed = {} and "
+               "flock.dt = {} s), more than flock.boids.perception_radius = {} m; "
+               "allowed: at most {:.6g} m/s",
+               prey_top * dt, noise, dt, radius, radius / (dt * (1 + noise))));
+  const double predator = c.get_real("flock.predator.max_speed");
+  if (predator * dt > radius)
+    c.fail("flock.predator.max_speed",
+           fmt::format("m/s moves the predator {:.6g} m per frame (flock.dt = {} s), more than "
+                       "flock.boids.perception_radius = {} m; allowed: at most {:.6g} m/s",
+                       predator * dt, dt, radius, radius / dt));
+  // From its second frame the rules hold a boid to its top speed.
+  const double launch = c.get_real("flock.takeoff.speed"),
+               top = c.get_real("flock.boids.max_speed");
+  if (launch > top)
+    c.fail("flock.takeoff.speed",
+           fmt::format("m/s is faster than flock.boids.max_speed; allowed: [0, {}] m/s", top));
+}
 
 void FlockScenario::declare_config(core::ConfigSchema& s) {
   // Domain.

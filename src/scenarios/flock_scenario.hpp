@@ -39,6 +39,11 @@ struct BoidRecord {
 class FlockScenario : public Scenario {
  public:
   static void declare_config(core::ConfigSchema& schema);
+  /// \brief The deck's lengths and speeds against each other and the rank grid: a boid moves
+  /// less than its perception radius per frame and launches no faster than its top speed; the
+  /// radius fits the thinnest rank block (the ghost layer) and gives at most 2^26 cell-list bins
+  /// on a rank. Fails with the key, value and allowed range (core::Config::fail).
+  static void check_scales(const core::Config& c, const grid::Decomposition& decomp, double dx);
   explicit FlockScenario(const RunContext& ctx);
 
   void step() override;

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.hpp"
 #include "coupling/particle_transfer.hpp"
@@ -71,6 +73,16 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
                            "tank [0, {}] x [0, {}] x [0, {}] m (lbm.nx, lbm.ny, lbm.nz x lbm.dx) "
                            "with lo <= hi on every axis",
                            hi[0], hi[1], hi[2], L[0], L[1], L[2]));
+  // A metamer is shorter than the tank (metamers of 1e300 m grew non-finite positions, whose
+  // plane index in the rank cut wrote past its array).
+  const double env = std::max(gp.env_min, gp.env_max), longest = gp.length_max * env,
+               side = std::min({L.x, L.y, L.z});
+  if (!(longest <= side))
+    cfg.fail("growth.length_max",
+             fmt::format("m times the largest environment factor {} (growth.env_min, "
+                         "growth.env_max) gives metamers of {:.3g} m, longer than the tank's "
+                         "shortest side {} m; allowed: at most {:.6g} m with these factors",
+                         env, longest, side, side / env));
   auto seeds = mp::place_seeds(gp.seed, n_plants_, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]},
                                cfg.get_real("seaweed.placement.min_spacing"));
   auto mpar = mp::MechanicsParams::from_config(cfg);
@@ -90,6 +102,27 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     int size = 0;
     MPI_Comm_size(ctx.comm, &size);
     const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
+    // Every block holds the particle ghost layer (two_phase_block_starts' least block).
+    const double cutoff = mpar.ghost_cutoff();
+    for (int a = 0; a < 3; ++a) {
+      const int block = params.cells[a] / std::max(dims[a], 1);
+      if (dims[a] > 1 && 1 + std::ceil(cutoff / params.dx) > block) {
+        // Named after its largest term.
+        const std::pair<double, const char*> terms[] = {
+            {2 * mpar.radius, "seaweed.radius"},
+            {mpar.cluster_margin, "seaweed.cluster_margin"},
+            {2 * mpar.spacing, "seaweed.spacing"},
+            {mpar.skin, "seaweed.skin"}};
+        const char* key = std::max_element(std::begin(terms), std::end(terms))->second;
+        cfg.fail(key,
+                 fmt::format("m gives a particle ghost cutoff of {:.3g} m (max(2 seaweed.radius "
+                             "+ seaweed.cluster_margin, 2 seaweed.spacing) + seaweed.skin), "
+                             "wider than the {}-cell blocks of {} ranks along axis {} hold "
+                             "beside one cell; allowed: a cutoff of at most {:.3g} m, or "
+                             "fewer ranks",
+                             cutoff, block, dims[a], a, (block - 1) * params.dx));
+      }
+    }
     const double sphere_cost = cfg.get_real("seaweed.balance.sphere_cost");
     std::array<std::vector<int>, 3> starts;
     if (sphere_cost > 0 || !rank_speed_.empty())

@@ -158,8 +158,16 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
             std::to_string(p.cells.y) + " x " + std::to_string(p.cells.z) + " cells");
   }
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
-  mac_->project_initial();
+  try {
+    mac_->project_initial();
+  } catch (const core::UnstableError& e) {
+    throw core::UnstableError(
+        fmt::format("wind: the initial projection: {}; check wind.dx and the "
+                    "initial and inflow velocities",
+                    e.what()));
+  }
   const auto st = mac_->next_dt();
+  check_solver_steps(ctx.config, p, st);
   int rank = 0;
   MPI_Comm_rank(ctx.comm, &rank);
   if (rank == 0)
@@ -172,6 +180,39 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
         st.dt, step_time_);
 }
 
+void WindScenario::check_solver_steps(const core::Config& cfg, const solvers::mac::MacParams& p,
+                                      const solvers::mac::StepStats& st) const {
+  // A deck whose limits give millions of solver steps per scenario step does not hang: it stops
+  // here, naming the limit that binds (the same on every rank: the limits are global minima).
+  // Each limit is proportional to its key, so the key times `factor` would do.
+  const double steps = step_time_ / st.dt;
+  if (!(steps > kMaxSolverSteps) || p.fixed_dt > 0) return;
+  const double factor = steps / kMaxSolverSteps;
+  const auto fail = [&](const std::string& key, const std::string& limit, const std::string& fix) {
+    cfg.fail(key, fmt::format("gives solver steps of {:.3g} s at the start ({}), {:.3g} per "
+                              "wind.step_time = {:.6g} s; allowed: at most {:.0f} per scenario "
+                              "step: {}",
+                              st.dt, limit, steps, step_time_, kMaxSolverSteps, fix));
+  };
+  if (st.dt == p.dt_max)
+    fail("wind.dt_max", "its cap", fmt::format("wind.dt_max >= {:.3g} s", p.dt_max * factor));
+  if (st.dt_cfl <= st.dt_viscous)
+    fail("wind.cfl", "the advective limit",
+         p.cfl * factor <= 1 ? fmt::format("wind.cfl >= {:.3g}", p.cfl * factor)
+                             : "no CFL number in (0, 1] gives so few for the flow at the start "
+                               "on these cells (wind.dx, the inflow or initial velocity)");
+  // The viscous limit: diffusion_number dx^2 / viscosity, with diffusion_number at most 0.25.
+  const double re = cfg.get_real("wind.reynolds_number"),
+               nu_max = p.viscosity * 0.25 / (p.diffusion_number * factor);
+  fail(re > 0 ? "wind.reynolds_number" : "wind.viscosity",
+       fmt::format("the viscous limit of viscosity {:.3g} m^2/s with wind.diffusion_number = {}",
+                   p.viscosity, p.diffusion_number),
+       re > 0 ? fmt::format("wind.reynolds_number >= {:.3g} (with wind.diffusion_number = 0.25)",
+                            re * p.viscosity / nu_max)
+              : fmt::format("wind.viscosity <= {:.3g} m^2/s (with wind.diffusion_number = 0.25)",
+                            nu_max));
+}
+
 WindScenario::~WindScenario() {
   mac_.reset();  // PETSc objects go before PETSc itself
   if (owns_petsc_) linalg::finalize();
@@ -180,8 +221,24 @@ WindScenario::~WindScenario() {
 void WindScenario::step() {
   const double target = (step_ + 1) * step_time_;
   // Solver steps until the scenario time is reached; the last one is shortened to land on it.
+  // Steps that shrink without bound (a flow speeding up, e.g. under a forcing the air cannot
+  // carry) stop the run instead of hanging it; dt is global, so every rank stops alike.
+  const auto unstable = [&](const std::string& what) {
+    return core::UnstableError(
+        fmt::format("wind: at step {} (t = {:.6g} s): {}; reduce wind.cfl "
+                    "or wind.dt_max, or the forcing",
+                    step_, mac_->time(), what));
+  };
+  long long steps = 0;
   while (target - mac_->time() > 1e-12 * step_time_) {
-    mac_->step(target - mac_->time());
+    if (++steps > kMaxSolverSteps)
+      throw unstable(fmt::format("more than {:.0f} solver steps in one scenario step (dt {:.3g} s)",
+                                 kMaxSolverSteps, mac_->last_stats().dt));
+    try {
+      mac_->step(target - mac_->time());
+    } catch (const core::UnstableError& e) {
+      throw unstable(e.what());
+    }
     ++substeps_;
     poisson_its_ += mac_->last_stats().poisson_iterations;
   }

@@ -45,6 +45,14 @@ class WindScenario : public Scenario {
   virtual void write_extra(io::CheckpointWriter&) {}
   virtual void read_extra(io::CheckpointReader&) {}
 
+  /// \brief Solver steps allowed in one scenario step: more at the start is an input error
+  /// (check_solver_steps), later an instability.
+  static constexpr double kMaxSolverSteps = 1e5;
+  /// \brief Fails (the binding limit's key, value, least allowed value) when the solver steps
+  /// at the start would exceed kMaxSolverSteps per scenario step.
+  void check_solver_steps(const core::Config& cfg, const solvers::mac::MacParams& p,
+                          const solvers::mac::StepStats& st) const;
+
   RunContext ctx_;
   io::OutputLayout out_layout_;  ///< output.region/stride/chunk/compression of the wind fields
   std::unique_ptr<grid::Decomposition> decomp_;

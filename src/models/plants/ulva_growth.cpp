@@ -67,8 +67,10 @@ Real environment_factor(const GrowthParams& gp, const Vec3& p) {
   // e = e_min + (e_max - e_min) k / (R - 1); beyond env_radius the outermost value applies.
   if (gp.env_regions <= 1) return gp.env_min;
   const Real r = std::hypot(p.x - gp.env_centre.x, p.y - gp.env_centre.y);
-  const int k =
-      std::min(gp.env_regions - 1, static_cast<int>(r / (gp.env_radius / gp.env_regions)));
+  // The ring in floating point first: far outside a tiny env_radius the quotient exceeds any
+  // int (the cast alone was undefined there and gave negative rings).
+  const Real ring = std::floor(r / (gp.env_radius / gp.env_regions));
+  const int k = ring < gp.env_regions - 1 ? static_cast<int>(ring) : gp.env_regions - 1;
   return gp.env_min + (gp.env_max - gp.env_min) * k / (gp.env_regions - 1);
 }
 

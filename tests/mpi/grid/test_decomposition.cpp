@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <limits>
 #include <vector>
 
 #include "grid/decomposition.hpp"
+#include "grid/plane_weights.hpp"
 #include "grid/two_phase_cut.hpp"
 
 using namespace biota::grid;
@@ -49,6 +51,18 @@ TEST(WeightedBlockStarts, EqualSumsAndMinimumThickness) {
   std::vector<double> spike(9, 0.0);
   spike[8] = 1;
   EXPECT_EQ(weighted_block_starts(spike, 3, 1), (std::vector<int>{0, 7, 8, 9}));
+}
+
+TEST(PlaneWeights, PointsOutsideOrNotFiniteCountForAnEndPlane) {
+  PlaneWeights w({1, 2, 1}, {4, 5, 6}, 0.5);
+  const double inf = std::numeric_limits<double>::infinity();
+  w.add({0, -3.0, 0});                                           // below: plane 0
+  w.add({0, 1.2, 0}, 2.0);                                       // plane 2
+  w.add({0, inf, 0});                                            // above: the last plane
+  w.add({0, std::numeric_limits<double>::quiet_NaN(), 0}, 4.0);  // NaN: plane 0
+  EXPECT_TRUE(w.planes()[0].empty());
+  EXPECT_EQ(w.planes()[1], (std::vector<double>{5, 0, 2, 0, 1}));
+  EXPECT_TRUE(w.planes()[2].empty());
 }
 
 TEST(WeightedBlockStarts, CapacitiesSplitTheWeightInProportion) {

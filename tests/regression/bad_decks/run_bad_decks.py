@@ -65,6 +65,9 @@ file = "%s"
 MOSS_TERRAIN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input", "moss",
                             "scene.obj")
 MOSS = MOSS % MOSS_TERRAIN
+# The shipped seaweed deck: its errors below come at set-up, before the 100^3 tank is allocated.
+SEAWEED = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "input",
+                            "seaweed.toml")).read().replace('dir = "out/seaweed"', 'dir = "{out}"')
 
 # (name, deck text or None for a missing file, extra args, substring the message must contain
 #  [, MPI ranks, default 2])
@@ -142,6 +145,27 @@ CASES = [
     # Issue 10: the moss scenario's terrain and weather keys.
     ("moss terrain missing", MOSS, ["--set", 'moss.terrain.file="/nonexistent/terrain.obj"'],
      "moss.terrain.file = \"/nonexistent/terrain.obj\" cannot be used"),
+    # Session 40's edge-of-range runs: these crashed (a segmentation fault), stopped with an internal
+    # message naming no key, or ran for hours.
+    ("flock take-off outside the box", FLOCK, ["--set", "flock.takeoff.scale=50"],
+     "flock.takeoff.scale = 50.0 m puts the take-off pattern outside the box [0, 60] x [0, 60] x "
+     "[0, 40] m from flock.takeoff.origin; allowed: at most 40 m from this origin"),
+    ("flock radius over a block", FLOCK, ["--set", "flock.boids.perception_radius=1e300"],
+     "flock.boids.perception_radius = 1e+300 m is wider than the thinnest rank block (28 m along "
+     "axis 1 with 2 ranks along it); allowed: at most 28 m"),
+    ("flock radius too fine", FLOCK, ["--set", "flock.boids.perception_radius=1e-9"],
+     "cell-list bins of edge radius / flock.domain.bin_reach on a rank; allowed: at least"),
+    ("flock prey speed per frame", FLOCK, ["--set", "flock.boids.max_speed=1e300"],
+     "flock.boids.max_speed = 1e+300 m/s moves a prey up to"),
+    ("flock launch over top speed", FLOCK, ["--set", "flock.takeoff.speed=1e300"],
+     "flock.takeoff.speed = 1e+300 m/s is faster than flock.boids.max_speed; allowed: [0, 4] m/s"),
+    ("wind solver steps per step", TREE, ["--set", "wind.dt_max=1e-9"],
+     "wind.dt_max = 1e-09 gives solver steps of 1e-09 s at the start (its cap)"),
+    ("seaweed metamer longer than the tank", SEAWEED, ["--set", "growth.env_max=1e300"],
+     "growth.length_max = 0.04 m times the largest environment factor 1e+300 (growth.env_min, "
+     "growth.env_max) gives metamers of 4e+298 m, longer than the tank's shortest side 1 m"),
+    ("seaweed ghost cutoff over a block", SEAWEED, ["--set", "seaweed.cluster_margin=1e300"],
+     "seaweed.cluster_margin = 1e+300 m gives a particle ghost cutoff of 1e+300 m"),
     # A face naming a vertex past the file's (tinyobjloader passes it through): was a crash.
     ("moss terrain face index", MOSS.replace(MOSS_TERRAIN, "{tmp}/far.obj"), [],
      "far.obj: face 1 (shape '') names vertex 999; allowed: 1 to 3 (the file's vertices)", 3),

@@ -63,6 +63,11 @@ TEST(UlvaGrowth, StemLengthsAndEnvironmentFactor) {
   EXPECT_DOUBLE_EQ(environment_factor(gp, {0.5, 0.5, 0.3}), 1.0);
   EXPECT_DOUBLE_EQ(environment_factor(gp, {1.2, 0.5, 0.0}), 1.5);
   EXPECT_DOUBLE_EQ(environment_factor(gp, {0.5 + 0.25, 0.5, 0.0}), 1.25);
+  // Far outside a tiny radius the ring number passes any int: still the outermost value (the
+  // int cast alone gave a negative ring, so a factor below env_min).
+  GrowthParams tiny = gp;
+  tiny.env_radius = 1e-9;
+  EXPECT_DOUBLE_EQ(environment_factor(tiny, {0.9, 0.5, 0.0}), 1.5);
   auto pop = grow_population(gp, grid_seeds(30, 0.2));
   for (const auto& bud : pop.buds) {
     if (bud.cycle == 0) continue;
