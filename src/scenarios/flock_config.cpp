@@ -59,15 +59,15 @@ void FlockScenario::check_scales(const core::Config& c, const grid::Decompositio
                "allowed: at most {:.6g} m/s",
                prey_top * dt, noise, dt, radius, radius / (dt * (1 + noise))));
   const double predator = c.get_real("flock.predator.max_speed");
-  if (predator * dt > radius)
+  if (c.get_int("flock.predator.count") > 0 && predator * dt > radius)
     c.fail("flock.predator.max_speed",
            fmt::format("m/s moves the predator {:.6g} m per frame (flock.dt = {} s), more than "
                        "flock.boids.perception_radius = {} m; allowed: at most {:.6g} m/s",
                        predator * dt, dt, radius, radius / dt));
-  // From its second frame the rules hold a boid to its top speed.
+  // From its second frame the rules hold a boid to its top speed ("uniform" launches nobody).
   const double launch = c.get_real("flock.takeoff.speed"),
                top = c.get_real("flock.boids.max_speed");
-  if (launch > top)
+  if (launch > top && c.get_string("flock.takeoff.ifs") != "uniform")
     c.fail("flock.takeoff.speed",
            fmt::format("m/s is faster than flock.boids.max_speed; allowed: [0, {}] m/s", top));
 }
