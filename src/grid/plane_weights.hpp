@@ -15,8 +15,8 @@
 namespace biota::grid {
 
 /// \brief See file comment. Planes are cells of `dx` from `origin`; a point outside the grid
-/// counts for the nearest end plane
-/// (a NaN one for the first). Axes the rank grid `dims` does not split keep no planes.
+/// counts for the nearest end plane, a NaN one for the first. Axes the rank grid `dims` does not
+/// split keep no planes.
 class PlaneWeights {
  public:
   PlaneWeights(const core::Index3& dims, const core::Index3& cells, double dx,

@@ -102,35 +102,36 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
     int size = 0;
     MPI_Comm_size(ctx.comm, &size);
     const core::Index3 dims = grid::Decomposition::rank_grid(size, params.cells, {0, 0, 0}, keys);
-    // Every block holds the particle ghost layer (two_phase_block_starts' least block).
+    const double sphere_cost = cfg.get_real("seaweed.balance.sphere_cost");
+    std::array<std::vector<int>, 3> starts;
+    if (sphere_cost > 0 || !rank_speed_.empty())
+      starts = grid::two_phase_block_starts(
+          dims, params.cells, spheres_per_plane(dims, params, pop, mpar.spacing), sphere_cost,
+          rank_speed_,
+          // At most a cell count (a huge cutoff is rejected below; its cast would be undefined).
+          static_cast<int>(std::min(1 + std::ceil(mpar.ghost_cutoff() / params.dx), 1e9)));
+    decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic(), dims,
+                                                    keys, starts);
+    // Every block holds the particle ghost layer, which comes from the neighbouring block only.
     const double cutoff = mpar.ghost_cutoff();
     for (int a = 0; a < 3; ++a) {
-      const int block = params.cells[a] / std::max(dims[a], 1);
-      if (dims[a] > 1 && 1 + std::ceil(cutoff / params.dx) > block) {
+      const double thinnest = decomp_->thinnest(a) * params.dx;
+      if (dims[a] > 1 && cutoff > thinnest) {
         // Named after its largest term.
         const std::pair<double, const char*> terms[] = {
             {2 * mpar.radius, "seaweed.radius"},
             {mpar.cluster_margin, "seaweed.cluster_margin"},
             {2 * mpar.spacing, "seaweed.spacing"},
             {mpar.skin, "seaweed.skin"}};
-        const char* key = std::max_element(std::begin(terms), std::end(terms))->second;
-        cfg.fail(key,
+        cfg.fail(std::max_element(std::begin(terms), std::end(terms))->second,
                  fmt::format("m gives a particle ghost cutoff of {:.3g} m (max(2 seaweed.radius "
                              "+ seaweed.cluster_margin, 2 seaweed.spacing) + seaweed.skin), "
-                             "wider than the {}-cell blocks of {} ranks along axis {} hold "
-                             "beside one cell; allowed: a cutoff of at most {:.3g} m, or "
-                             "fewer ranks",
-                             cutoff, block, dims[a], a, (block - 1) * params.dx));
+                             "wider than the thinnest rank block ({:.3g} m along axis {} with {} "
+                             "ranks along it); allowed: a cutoff of at most {:.3g} m, or fewer "
+                             "ranks",
+                             cutoff, thinnest, a, dims[a], thinnest));
       }
     }
-    const double sphere_cost = cfg.get_real("seaweed.balance.sphere_cost");
-    std::array<std::vector<int>, 3> starts;
-    if (sphere_cost > 0 || !rank_speed_.empty())
-      starts = grid::two_phase_block_starts(
-          dims, params.cells, spheres_per_plane(dims, params, pop, mpar.spacing), sphere_cost,
-          rank_speed_, 1 + static_cast<int>(std::ceil(mpar.ghost_cutoff() / params.dx)));
-    decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic(), dims,
-                                                    keys, starts);
   }
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});
   core::check_memory(ctx.comm, cfg, solvers::lbm::LbmSolver::memory_estimate(*decomp_, params),

@@ -165,7 +165,9 @@ CASES = [
      "growth.length_max = 0.04 m times the largest environment factor 1e+300 (growth.env_min, "
      "growth.env_max) gives metamers of 4e+298 m, longer than the tank's shortest side 1 m"),
     ("seaweed ghost cutoff over a block", SEAWEED, ["--set", "seaweed.cluster_margin=1e300"],
-     "seaweed.cluster_margin = 1e+300 m gives a particle ghost cutoff of 1e+300 m"),
+     "seaweed.cluster_margin = 1e+300 m gives a particle ghost cutoff of 1e+300 m (max(2 seaweed.radius "
+     "+ seaweed.cluster_margin, 2 seaweed.spacing) + seaweed.skin), wider than the thinnest rank block "
+     "(0.5 m along axis 1 with 2 ranks along it)"),
     # A face naming a vertex past the file's (tinyobjloader passes it through): was a crash.
     ("moss terrain face index", MOSS.replace(MOSS_TERRAIN, "{tmp}/far.obj"), [],
      "far.obj: face 1 (shape '') names vertex 999; allowed: 1 to 3 (the file's vertices)", 3),
