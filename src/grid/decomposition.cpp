@@ -219,6 +219,12 @@ int Decomposition::thinnest(int axis) const {
   return t;
 }
 
+int Decomposition::widest(int axis) const {
+  int w = 0;
+  for (int i = 0; i < dims_[axis]; ++i) w = std::max(w, starts_[axis][i + 1] - starts_[axis][i]);
+  return w;
+}
+
 Index3 Decomposition::wrap(Index3 c) const {
   for (int a = 0; a < 3; ++a)
     if (periodic_[a]) c[a] = ((c[a] % global_[a]) + global_[a]) % global_[a];

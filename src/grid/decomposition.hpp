@@ -108,6 +108,8 @@ class Decomposition {
   int block_of(int axis, int cell) const;
   /// \brief Cells of the thinnest block along `axis`.
   int thinnest(int axis) const;
+  /// \brief Cells of the widest block along `axis`.
+  int widest(int axis) const;
   /// \brief Rank owning global cell `c` (wrapped on periodic axes).
   int owner_of_cell(Index3 c) const;
   /// \brief Rank owning the point `p` given in cell units (cell i spans [i, i+1)).

@@ -1,6 +1,7 @@
 #include "particles/particle_comm.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -293,6 +294,13 @@ void ParticleComm::reverse_sum(ParticleSet& set, const std::vector<int>& attrs) 
       for (std::size_t k = 0; k < p.send.size(); ++k)
         for (std::size_t c = 0; c < w; ++c) cols[c][p.send[k]] += in[k * w + c];
     }
+}
+
+SplitBlock thinnest_split_block(const grid::Decomposition& decomp, double dx) {
+  SplitBlock t{std::numeric_limits<double>::infinity(), -1};
+  for (int d = 0; d < 3; ++d)
+    if (decomp.dims()[d] > 1 && decomp.thinnest(d) * dx < t.width) t = {decomp.thinnest(d) * dx, d};
+  return t;
 }
 
 }  // namespace biota::particles

@@ -117,4 +117,14 @@ inline Real ParticleComm::wrap(int d, Real v) const {
   return decomp_.periodic(d) ? wrap_coord(v, glo_[d], ghi_[d]) : v;
 }
 
+/// \brief The narrowest rank block (m, cells of `dx`) along the axes the rank grid splits, and
+/// its axis; {infinity, -1} if none is split. ParticleComm::build_ghosts needs the ghost cutoff
+/// no wider (ghosts come from the neighbouring block only); scenarios compare their cutoff with
+/// it at set-up, so their error names the deck keys that set it.
+struct SplitBlock {
+  double width;
+  int axis;
+};
+SplitBlock thinnest_split_block(const grid::Decomposition& decomp, double dx);
+
 }  // namespace biota::particles

@@ -13,23 +13,16 @@ namespace biota::scenarios {
 void FlockScenario::check_scales(const core::Config& c, const grid::Decomposition& decomp,
                                  double dx) {
   const double radius = c.get_real("flock.boids.perception_radius"), dt = c.get_real("flock.dt");
-  // The ghost layer is one radius deep and comes from the neighbouring block only.
-  for (int d = 0; d < 3; ++d)
-    if (decomp.dims()[d] > 1 && radius > decomp.thinnest(d) * dx)
-      c.fail("flock.boids.perception_radius",
-             fmt::format("m is wider than the thinnest rank block ({} m along axis {} with {} "
-                         "ranks along it); allowed: at most {} m, or fewer ranks",
-                         decomp.thinnest(d) * dx, d, decomp.dims()[d], decomp.thinnest(d) * dx));
+  // The ghost layer is one radius deep.
+  if (const auto t = particles::thinnest_split_block(decomp, dx); radius > t.width)
+    c.fail("flock.boids.perception_radius",
+           fmt::format("m is wider than the thinnest rank block ({} m along axis {} with {} ranks "
+                       "along it); allowed: at most {} m, or fewer ranks",
+                       t.width, t.axis, decomp.dims()[t.axis], t.width));
   // OrderedCellList bins a rank's points and ghosts in cubes of edge radius / reach, at most
   // 2^26 of them.
   const int reach = static_cast<int>(c.get_int("flock.domain.bin_reach"));
-  double widest[3];
-  for (int d = 0; d < 3; ++d) {
-    int cells = 0;
-    for (int i = 0; i < decomp.dims()[d]; ++i)
-      cells = std::max(cells, decomp.block_start_of(d, i + 1) - decomp.block_start_of(d, i));
-    widest[d] = cells * dx;
-  }
+  const double widest[3] = {decomp.widest(0) * dx, decomp.widest(1) * dx, decomp.widest(2) * dx};
   const auto bins = [&](double r) {
     double n = 1;
     for (double w : widest) n *= std::floor((w + 2 * r) * reach / r) + 2;

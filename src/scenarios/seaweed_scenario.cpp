@@ -112,25 +112,20 @@ SeaweedScenario::SeaweedScenario(const RunContext& ctx) : ctx_(ctx) {
           static_cast<int>(std::min(1 + std::ceil(mpar.ghost_cutoff() / params.dx), 1e9)));
     decomp_ = std::make_unique<grid::Decomposition>(ctx.comm, params.cells, params.periodic(), dims,
                                                     keys, starts);
-    // Every block holds the particle ghost layer, which comes from the neighbouring block only.
+    // Every block holds the particle ghost layer, named after the cutoff's largest term.
     const double cutoff = mpar.ghost_cutoff();
-    for (int a = 0; a < 3; ++a) {
-      const double thinnest = decomp_->thinnest(a) * params.dx;
-      if (dims[a] > 1 && cutoff > thinnest) {
-        // Named after its largest term.
-        const std::pair<double, const char*> terms[] = {
-            {2 * mpar.radius, "seaweed.radius"},
-            {mpar.cluster_margin, "seaweed.cluster_margin"},
-            {2 * mpar.spacing, "seaweed.spacing"},
-            {mpar.skin, "seaweed.skin"}};
-        cfg.fail(std::max_element(std::begin(terms), std::end(terms))->second,
-                 fmt::format("m gives a particle ghost cutoff of {:.3g} m (max(2 seaweed.radius "
-                             "+ seaweed.cluster_margin, 2 seaweed.spacing) + seaweed.skin), "
-                             "wider than the thinnest rank block ({:.3g} m along axis {} with {} "
-                             "ranks along it); allowed: a cutoff of at most {:.3g} m, or fewer "
-                             "ranks",
-                             cutoff, thinnest, a, dims[a], thinnest));
-      }
+    if (const auto t = particles::thinnest_split_block(*decomp_, params.dx); cutoff > t.width) {
+      const std::pair<double, const char*> terms[] = {
+          {2 * mpar.radius, "seaweed.radius"},
+          {mpar.cluster_margin, "seaweed.cluster_margin"},
+          {2 * mpar.spacing, "seaweed.spacing"},
+          {mpar.skin, "seaweed.skin"}};
+      cfg.fail(std::max_element(std::begin(terms), std::end(terms))->second,
+               fmt::format("m gives a particle ghost cutoff of {:.3g} m (max(2 seaweed.radius + "
+                           "seaweed.cluster_margin, 2 seaweed.spacing) + seaweed.skin), wider "
+                           "than the thinnest rank block ({:.3g} m along axis {} with {} ranks "
+                           "along it); allowed: a cutoff of at most {:.3g} m, or fewer ranks",
+                           cutoff, t.width, t.axis, dims[t.axis], t.width));
     }
   }
   out_layout_ = grid_output_layout(cfg, *decomp_, params.dx, {0, 0, 0});

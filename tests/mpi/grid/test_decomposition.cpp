@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <limits>
 #include <vector>
 
@@ -113,6 +114,15 @@ TEST(Decomposition, GivenBlockStartsTileTheDomainAndMatchOwners) {
     if (d.dims()[a] == 1) continue;
     EXPECT_LT(d.block_start_of(a, 1), block_start(n[a], d.dims()[a], 1)) << "axis " << a;
     EXPECT_GE(d.thinnest(a), 2);
+    // The thinnest and widest blocks against the block starts (uneven here: the heavy quarter).
+    int thin = n[a], wide = 0;
+    for (int i = 0; i < d.dims()[a]; ++i) {
+      const int cells = d.block_start_of(a, i + 1) - d.block_start_of(a, i);
+      thin = std::min(thin, cells), wide = std::max(wide, cells);
+    }
+    EXPECT_EQ(d.thinnest(a), thin);
+    EXPECT_EQ(d.widest(a), wide);
+    EXPECT_GT(wide, thin);
     for (int i = 0; i < d.dims()[a]; ++i) EXPECT_EQ(d.block_of(a, d.block_start_of(a, i)), i);
   }
 }

@@ -95,7 +95,9 @@ TEST(LoadBalance, AHeavyPlaneGoesWhereItCostsLeast) {
   std::vector<int> s(P + 1);  // the cut after the decision (kept when it is already the best)
   for (int b = 0; b <= P; ++b)
     s[b] = decision.moves() ? decision.starts[1][b] : d.block_start_of(1, b);
-  if (P == 2) EXPECT_TRUE(decision.moves() && s[1] == kHeavy);
+  if (P == 2) {
+    EXPECT_TRUE(decision.moves() && s[1] == kHeavy);
+  }
   std::vector<double> plane(cells.y, cells.x * cells.z * 1.0);
   plane[kHeavy] *= 20;
   const auto block = [&](int lo, int hi) {
