@@ -46,9 +46,16 @@ def edge_values(typ, lb, lo, hi, rb):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument('scenarios', nargs='*', default=list(DECKS))
-    ap.add_argument('--timeout', type=float, default=90)
+    ap.add_argument('scenarios', nargs='*', metavar='scenario',
+                    help=f'one of {", ".join(DECKS)} (default: all)')
+    ap.add_argument('--timeout', type=float, default=90, help='seconds per run (> 0)')
     args = ap.parse_args()
+    for name in args.scenarios:
+        if name not in DECKS:
+            ap.error(f'scenario {name!r}: allowed: one of {", ".join(DECKS)}')
+    args.scenarios = args.scenarios or list(DECKS)
+    if not args.timeout > 0:
+        ap.error(f'--timeout {args.timeout}: allowed: > 0 seconds')
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1')
     reference = open(os.path.join(ROOT, 'docs', 'deck-reference.md')).read()
     sections = re.split(r'^## scenario = "(\w+)"', reference, flags=re.M)
