@@ -13,7 +13,9 @@
 
 #include "app/bench_stats.hpp"
 #include "app/stream_probe.hpp"
+#include "core/agreement.hpp"
 #include "core/config.hpp"
+#include "core/error.hpp"
 #include "core/timers.hpp"
 #include "models/flock/sandpile.hpp"
 #include "scenarios/flock_scenario.hpp"
@@ -52,12 +54,27 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
            perceived = 0;
     long long moves = 0, owned_min = 0, owned_max = 0;
   };
+  // Density for `neighbours` boids in the perception sphere; box a multiple of dx = R.
+  const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
+  const auto box_side = [&](long long n) {
+    return R * std::ceil(std::cbrt(double(n) / density) / R);
+  };
+  // A periodic box needs 3 perception radii (FlockScenario); at this density that is a least
+  // count. Every rank checks it before any case runs.
+  for (long long n : opts.boids)
+    if (box_side(n) < 3 * R) {
+      long long least = static_cast<long long>(density * 8 * R * R * R);
+      while (box_side(least) < 3 * R) ++least;
+      throw core::InputError(fmt::format(
+          "bench flock: --boids {} gives a {:g} m periodic box at {:g} boids per perception "
+          "sphere, under the 3 perception radii ({:g} m) a periodic box needs; allowed: at least "
+          "{} boids",
+          n, box_side(n), opts.neighbours, 3 * R, least));
+    }
   const auto run_case = [&](MPI_Comm c, long long n) {
     int csize = 1;
     MPI_Comm_size(c, &csize);
-    // Density for `neighbours` boids in the perception sphere; box a multiple of dx = R.
-    const double density = opts.neighbours / (4.0 / 3 * std::numbers::pi * R * R * R);
-    const double side = R * std::ceil(std::cbrt(double(n) / density) / R);
+    const double side = box_side(n);
     const std::string deck = fmt::format(
         "scenario = \"flock\"\nseed = 1\n[flock]\nstats_interval = 1000000\n"
         "[flock.domain]\nsize = [{0}, {0}, {0}]\ndx = {1}\nboundary = \"periodic\"\nbin_reach = "
@@ -68,7 +85,12 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         "[flock.noise]\nheading = 0.0\ncruising_distance = 0.0\nmax_speed = 0.0\n"
         "[flock.takeoff]\nifs = \"uniform\"\n",
         side, R, n, opts.reach, opts.balance_interval);
-    const auto cfg = core::Config::from_string(schema, deck, "bench");
+    // Errors of the generated deck name the option that set it (e.g. a box too thin for the
+    // ranks: `bench flock --boids 300 on 3 ranks: flock.boids.perception_radius = 3 m ...`).
+    const auto cfg = core::Config::from_string(
+        schema, deck,
+        csize < size ? fmt::format("bench flock --boids {} (rank 0 alone)", n)
+                     : fmt::format("bench flock --boids {} on {} rank(s)", n, csize));
     core::Timers timers;
     scenarios::RunContext ctx{c, cfg, timers, "bench_flock_out"};
     scenarios::FlockScenario sc(ctx);
@@ -115,22 +137,23 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   // efficiency then compares two figures of the same minutes, not of two runs.
   MPI_Comm solo = MPI_COMM_NULL;
   if (size > 1) MPI_Comm_split(comm, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
+  // A case that fails on rank 0 alone (a box too small for the ranks is found there first) must
+  // not leave the other ranks waiting for it: every case ends in an agreement.
+  core::ErrorAgreement agreement(comm);
   for (long long n : opts.boids) {
     std::vector<double> efficiency;
     for (int round = 0; round < opts.rounds; ++round) {
       CaseResult alone;
-      if (solo != MPI_COMM_NULL) {
-        alone = run_case(solo, n);
-        print_row(n, alone, "  (rank 0 alone)");
-      }
-      // The other ranks wait asleep, not in a busy-polling barrier that would hold a core.
-      MPI_Request arrived;
-      MPI_Ibarrier(comm, &arrived);
-      for (int done = 0; !done;) {
-        MPI_Test(&arrived, &done, MPI_STATUS_IGNORE);
-        if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      }
-      const CaseResult all = run_case(comm, n);
+      // The other ranks wait asleep, not in a busy-polling wait that would hold a core.
+      agreement.run(
+          [&] {
+            if (solo == MPI_COMM_NULL) return;
+            alone = run_case(solo, n);
+            print_row(n, alone, "  (rank 0 alone)");
+          },
+          0, core::ErrorAgreement::Wait::kSleep);
+      CaseResult all;
+      agreement.run([&] { all = run_case(comm, n); });
       if (rank != 0) continue;
       print_row(n, all, size > 1 ? fmt::format("  ({} ranks)", size) : std::string());
       if (size == 1) continue;

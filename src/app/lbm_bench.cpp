@@ -168,7 +168,23 @@ int run_lbm_bench(MPI_Comm comm, const LbmBenchOptions& opts) {
   const double bw = stream_triad(comm);
   // The cases' decomposition (walls on every face), printed because the split axis decides how
   // contiguous the halo is.
-  const grid::Decomposition layout(comm, {opts.size, opts.size, opts.size}, {false, false, false});
+  const grid::GridKeys keys{"bench lbm", {"--size", "--size", "--size"}};
+  const grid::Decomposition layout(comm, {opts.size, opts.size, opts.size}, {false, false, false},
+                                   {0, 0, 0}, keys);
+  {
+    // Before the first population is allocated: a size the machine cannot hold ended in
+    // std::bad_alloc on one rank. The largest case is D3Q19; the two-grid variant holds two
+    // population buffers and a force field beside it.
+    solvers::lbm::LbmParams d3q19;
+    d3q19.lattice = "D3Q19";
+    auto items = solvers::lbm::LbmSolver::memory_estimate(layout, d3q19);
+    const auto n = layout.local_cells();
+    if (opts.two_grid)
+      items.push_back({"two-grid variant",
+                       (2.0 * 19 + 3) * 8 * double(n.x + 2) * double(n.y + 2) * double(n.z + 2)});
+    core::check_memory(comm, "bench lbm", items,
+                       fmt::format("--size {} ({}^3 cells)", opts.size, opts.size));
+  }
   // --balance-speed: blocks in proportion to the ranks' sweep speed, measured once here.
   std::array<std::vector<int>, 3> starts;
   std::vector<double> speed;

@@ -131,6 +131,18 @@ scenarios::ScenarioInfo scenario_of(const std::string& deck,
       "{}: scenario = \"{}\" is not a known scenario; allowed: one of {{{}}}", deck, name, names));
 }
 
+// `biota bench` has one option list for both benchmarks; an option of the other one was ignored
+// without a word (`bench flock --size 50` ran the flock's own sizes).
+void reject_options_of_the_other_bench(const CLI::App& bench, const std::string& what) {
+  static const std::vector<std::string> lbm_only = {
+      "--size", "--case", "--no-peer", "--no-two-grid", "--no-overlap", "--balance-speed"};
+  static const std::vector<std::string> flock_only = {"--boids", "--reach", "--balance-interval"};
+  for (const auto& option : what == "flock" ? lbm_only : flock_only)
+    if (bench.count(option) > 0)
+      throw core::InputError(fmt::format("bench {}: {} is an option of `biota bench {}` only", what,
+                                         option, what == "flock" ? "lbm" : "flock"));
+}
+
 core::ConfigSchema schema_for(const scenarios::ScenarioInfo& info) {
   core::ConfigSchema schema;
   app::declare_common_config(schema);
@@ -186,7 +198,8 @@ int main(int argc, char** argv) {
   app::LbmBenchOptions bench_opts;
   bench->add_option("what", bench_what, "what to benchmark")
       ->check(CLI::IsMember({"lbm", "flock"}));
-  bench->add_option("--size", bench_opts.size, "cells per axis");
+  bench->add_option("--size", bench_opts.size, "lbm: cells per axis")
+      ->check(CLI::Range(1, 100'000));
   bench->add_option("--steps", bench_opts.steps, "timed steps per case")
       ->check(CLI::Range(1, 1'000'000));
   bench
@@ -195,8 +208,9 @@ int main(int argc, char** argv) {
                    "flock: rounds of each case on rank 0 alone and on all ranks (median "
                    "efficiency; default 1)")
       ->check(CLI::Range(1, 100));
-  bench->add_option("--case", bench_opts.cases,
-                    "lbm: only these cases, e.g. D3Q19/bgk (repeatable)");
+  bench
+      ->add_option("--case", bench_opts.cases, "lbm: only these cases, e.g. D3Q19/bgk (repeatable)")
+      ->check(CLI::IsMember({"D3Q15/bgk", "D3Q15/trt", "D3Q19/bgk", "D3Q19/trt"}));
   bench->add_flag("!--no-peer", bench_opts.peer, "lbm: do not run the RRZE peer kernels");
   bench->add_flag("!--no-two-grid", bench_opts.two_grid,
                   "lbm: do not time the former two-grid sweep");
@@ -206,8 +220,10 @@ int main(int argc, char** argv) {
                   "lbm: cut the grid by the ranks' measured sweep speed (as the seaweed does) "
                   "instead of into equal blocks");
   app::FlockBenchOptions flock_opts;
-  bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)");
-  bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach");
+  bench->add_option("--boids", flock_opts.boids, "flock: prey counts (repeatable)")
+      ->check(CLI::Range(1LL, 100'000'000LL));  // flock.prey.count's range, 0 excluded
+  bench->add_option("--reach", flock_opts.reach, "flock: neighbour bins of radius/reach")
+      ->check(CLI::Range(1, 4));  // flock.domain.bin_reach's range
   bench
       ->add_option("--balance-interval", flock_opts.balance_interval,
                    "flock: steps between load-balance checks (flock.balance.interval; 0: the "
@@ -247,6 +263,7 @@ int main(int argc, char** argv) {
     }
     if (*lsystem) return app::run_lsystem_command(lsys, root);
     if (*bench || *run || *check) warn_if_no_fast_fma(root);
+    if (*bench) reject_options_of_the_other_bench(*bench, bench_what);
     if (*bench && bench_what == "flock") {
       // Options shared with the lbm benchmark override the flock's own defaults only when given.
       if (bench->count("--steps") > 0) flock_opts.steps = bench_opts.steps;

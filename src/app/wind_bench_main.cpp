@@ -9,19 +9,25 @@
 /// `--compare` runs the step case (and the sweep, if given) once per preconditioner of CG in one
 /// run: GAMG, BoomerAMG, the cell-centred PCMG, hypre's PFMG and our matrix-free geometric
 /// multigrid (the default), each the peer of the others.
+#include <fmt/format.h>
 #include <mpi.h>
+
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "core/agreement.hpp"
+#include "core/error.hpp"
+#include "core/memory.hpp"
 #include "core/timers.hpp"
+#include "grid/halo_exchange.hpp"
 #include "linalg/petsc_environment.hpp"
 #include "linalg/poisson_solver.hpp"
 #include "solvers/mac/mac_solver.hpp"
@@ -113,6 +119,16 @@ StepResult step_breakdown(int n, int steps, bool root, const std::string& option
   return {wall / steps, double(its) / solves, solve_per, t.last_stats().max_divergence, setup};
 }
 
+// The rank grid, the halo width and the memory of an N^3 case, before it runs (the step case is
+// periodic along y, the sweep's cube is not); errors name `option` (one line, exit 2).
+void check_size(int n, std::array<bool, 3> periodic, const std::string& option) {
+  const grid::GridKeys keys{"", {option, option, option}};
+  const grid::Decomposition d(MPI_COMM_WORLD, {n, n, n}, periodic, {0, 0, 0}, keys);
+  grid::check_halo_width(d, MacSolver::kGhosts, keys);
+  core::check_memory(MPI_COMM_WORLD, fmt::format("{} {}", option, n), MacSolver::memory_estimate(d),
+                     fmt::format("{}^3 cells", n));
+}
+
 void poisson_sweep(const std::vector<int>& sizes, bool root, const std::string& options = "") {
   if (root)
     std::printf(
@@ -164,21 +180,27 @@ int main(int argc, char** argv) {
   int size = 0, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  // Every rank parses the same arguments, so every rank stops alike; rank 0 prints.
+  CLI::App cli{"biota_bench_wind: step time of the MAC wind solver and its pressure solves"};
   int n = 100, steps = 5;
   std::vector<int> sweep;
   bool compare = false;
-  for (int i = 1; i < own; ++i) {
-    std::string a = argv[i];
-    if (a == "--compare")
-      compare = true;
-    else if (a == "--size" && i + 1 < own)
-      n = std::atoi(argv[++i]);
-    else if (a == "--steps" && i + 1 < own)
-      steps = std::atoi(argv[++i]);
-    else if (a == "--sweep" && i + 1 < own) {
-      std::stringstream ss(argv[++i]);
-      for (std::string w; std::getline(ss, w, ',');) sweep.push_back(std::atoi(w.c_str()));
-    }
+  cli.add_option("--size", n, "cells per axis of the step case (0: only the --sweep)")
+      ->check(CLI::Range(0, 100'000));
+  cli.add_option("--steps", steps, "timed steps of the step case")->check(CLI::Range(1, 1'000'000));
+  cli.add_option("--sweep", sweep, "Poisson sweep sizes, e.g. 32,64,128")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 100'000));
+  cli.add_flag("--compare", compare, "run every preconditioner of CG in turn");
+  try {
+    cli.parse(own, argv);
+    if (n == 0 && sweep.empty())
+      throw CLI::ValidationError(
+          "--size 0 runs no step case and no --sweep is given: nothing to run");
+  } catch (const CLI::ParseError& e) {
+    int code = rank == 0 ? cli.exit(e) : e.get_exit_code();
+    MPI_Finalize();
+    return code == 0 ? 0 : core::kExitInput;
   }
   int code = 0;
   try {
@@ -187,6 +209,10 @@ int main(int argc, char** argv) {
       std::printf(
           "biota_bench_wind: %d rank(s), hardware threads %u; machine load not controlled\n", size,
           std::thread::hardware_concurrency());
+    // Every size is checked before any case runs: a size the ranks cannot split, or the machine
+    // cannot hold, stopped a run midway (std::bad_alloc on one rank).
+    if (n > 0) check_size(n, {false, true, false}, "--size");
+    for (int m : sweep) check_size(m, {false, false, false}, "--sweep");
     if (!compare) {
       if (n > 0) step_breakdown(n, steps, rank == 0);
       if (!sweep.empty()) poisson_sweep(sweep, rank == 0);
@@ -218,7 +244,7 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "biota_bench_wind: error: %s\n", e.what());
-    code = 1;
+    code = core::exit_code_of(e);
   }
   linalg::finalize();
   MPI_Finalize();

@@ -34,7 +34,7 @@ ErrorAgreement::~ErrorAgreement() {
   if (!finalized && comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
 }
 
-int ErrorAgreement::agree(std::exception_ptr local_failure, int flag) {
+int ErrorAgreement::agree(std::exception_ptr local_failure, int flag, Wait wait) {
   int code = 0;
   std::string message;
   if (local_failure) {
@@ -53,8 +53,13 @@ int ErrorAgreement::agree(std::exception_ptr local_failure, int flag) {
   int local[2] = {code ? size_ - rank_ : 0, flag}, global[2] = {0, 0};
   MPI_Request req;
   MPI_Iallreduce(local, global, 2, MPI_INT, MPI_MAX, comm_, &req);
-  if (!code) {
+  if (!code && wait == Wait::kBlock) {
     MPI_Wait(&req, MPI_STATUS_IGNORE);
+  } else if (!code) {
+    for (int done = 0; !done;) {
+      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+      if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
   } else {
     // The others may be stuck in a collective this rank left: wait `grace_`, then abort.
     const double deadline = MPI_Wtime() + grace_;

@@ -53,20 +53,24 @@ class ErrorAgreement {
   ErrorAgreement(const ErrorAgreement&) = delete;
   ErrorAgreement& operator=(const ErrorAgreement&) = delete;
 
+  /// \brief How a rank that did not fail waits for the others: in MPI_Wait (which may spin a
+  /// core), or polling with short sleeps, when the others run work that should have the cores
+  /// to itself (a benchmark case on one rank).
+  enum class Wait { kBlock, kSleep };
   /// \brief Run `fn` on this rank, then agree. Returns the maximum of `flag` over ranks (e.g. a
   /// signal number) if no rank failed; throws AgreedError on every rank otherwise.
   template <class F>
-  int run(F&& fn, int flag = 0) {
+  int run(F&& fn, int flag = 0, Wait wait = Wait::kBlock) {
     std::exception_ptr failure;
     try {
       fn();
     } catch (...) {
       failure = std::current_exception();
     }
-    return agree(failure, flag);
+    return agree(failure, flag, wait);
   }
   /// \brief The agreement point itself (collective).
-  int agree(std::exception_ptr local_failure, int flag = 0);
+  int agree(std::exception_ptr local_failure, int flag = 0, Wait wait = Wait::kBlock);
   /// \brief Extra line printed with the message if the job has to be aborted (e.g. the last good
   /// checkpoint).
   void set_note(std::string note) { note_ = std::move(note); }

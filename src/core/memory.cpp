@@ -52,6 +52,11 @@ std::string format_bytes(double b) {
 
 void check_memory(MPI_Comm comm, const Config& cfg, const std::vector<MemoryItem>& items,
                   const std::string& keys) {
+  check_memory(comm, cfg.source(), items, keys);
+}
+
+void check_memory(MPI_Comm comm, const std::string& input, const std::vector<MemoryItem>& items,
+                  const std::string& keys) {
   double mine = 0;
   for (const auto& it : items) mine += it.bytes;
   MPI_Comm node;
@@ -84,7 +89,7 @@ void check_memory(MPI_Comm comm, const Config& cfg, const std::vector<MemoryItem
     throw InputError(fmt::format(
         "{}: {} need about {} of memory per node ({} per rank x {} ranks) but {} are available "
         "({}); use a smaller grid or more nodes",
-        cfg.source(), keys, format_bytes(numbers[0]), format_bytes(worst_rank), int(numbers[2]),
+        input, keys, format_bytes(numbers[0]), format_bytes(worst_rank), int(numbers[2]),
         format_bytes(numbers[1]), source));
 }
 

@@ -32,5 +32,9 @@ std::string format_bytes(double bytes);
 /// the size), needed and available.
 void check_memory(MPI_Comm comm, const Config& cfg, const std::vector<MemoryItem>& items,
                   const std::string& keys);
+/// \brief The same for input that is not a deck (a benchmark's command line): `input` leads the
+/// message where the deck's name would, and `keys` names the options.
+void check_memory(MPI_Comm comm, const std::string& input, const std::vector<MemoryItem>& items,
+                  const std::string& keys);
 
 }  // namespace biota::core

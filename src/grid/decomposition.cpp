@@ -84,6 +84,9 @@ Index3 Decomposition::rank_grid(int size, Index3 cells, Index3 dims, const GridK
   for (int a = 0; a < 3; ++a)
     names +=
         (a ? ", " : "") + (keys.cells[a].empty() ? std::string("xyz").substr(a, 1) : keys.cells[a]);
+  // One option for all three axes (a benchmark's --size): named once.
+  if (!keys.cells[0].empty() && keys.cells[0] == keys.cells[1] && keys.cells[1] == keys.cells[2])
+    names = keys.cells[0];
   throw core::InputError((keys.source.empty() ? std::string("decomposition") : keys.source) + ": " +
                          names + " = " + std::to_string(cells.x) + " x " + std::to_string(cells.y) +
                          " x " + std::to_string(cells.z) + " cells cannot be split over " +

@@ -93,8 +93,13 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
   const auto& ps = c.get_real_list("flock.predator.start");
   pred_start_ = {ps[0], ps[1], ps[2]};
-  // Points of the deck must lie in the box (a point outside selects no rank's cell).
+  // Points of the deck must lie in the box (a point outside selects no rank's cell); a point
+  // the deck does not use (no predator, the uniform take-off) is not checked.
   for (const char* key : {"flock.predator.start", "flock.takeoff.origin"}) {
+    if (key == std::string_view("flock.predator.start")
+            ? n_pred_ == 0
+            : c.get_string("flock.takeoff.ifs") == "uniform")
+      continue;
     const auto& q = c.get_real_list(key);
     for (int d = 0; d < 3; ++d)
       if (!(q[d] >= 0 && q[d] <= size[d]))

@@ -145,18 +145,9 @@ WindScenario::WindScenario(const RunContext& ctx) : ctx_(ctx) {
                                                   core::Index3{0, 0, 0}, keys);
   grid::check_halo_width(*decomp_, solvers::mac::MacSolver::kGhosts, keys);
   out_layout_ = grid_output_layout(ctx.config, *decomp_, p.dx, {0, 0, 0});
-  {
-    // MAC fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with 2 ghost layers, and
-    // the pressure solve (7-point matrix, multigrid hierarchy, Krylov vectors: ~300 B per cell).
-    const core::Index3 n = decomp_->local_cells();
-    const double cells = double(n.x + 4) * double(n.y + 4) * double(n.z + 4);
-    const double owned = double(n.x) * double(n.y) * double(n.z);
-    core::check_memory(
-        ctx.comm, ctx.config,
-        {{"fields", 16 * 8 * cells}, {"pressure solve", 300 * owned}, {"output", 8 * 8 * owned}},
-        "wind.nx x wind.ny x wind.nz = " + std::to_string(p.cells.x) + " x " +
-            std::to_string(p.cells.y) + " x " + std::to_string(p.cells.z) + " cells");
-  }
+  core::check_memory(ctx.comm, ctx.config, solvers::mac::MacSolver::memory_estimate(*decomp_),
+                     "wind.nx x wind.ny x wind.nz = " + std::to_string(p.cells.x) + " x " +
+                         std::to_string(p.cells.y) + " x " + std::to_string(p.cells.z) + " cells");
   mac_ = std::make_unique<solvers::mac::MacSolver>(*decomp_, p, ctx.timers);
   try {
     mac_->project_initial();

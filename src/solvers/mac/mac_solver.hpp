@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/memory.hpp"
 #include "core/timers.hpp"
 #include "core/types.hpp"
 #include "grid/decomposition.hpp"
@@ -88,6 +89,17 @@ class MacSolver {
   /// wind.halo, wind.boundary.
   MacSolver(const grid::Decomposition& decomp, MacParams params, core::Timers& timers);
   ~MacSolver();
+  /// \brief What a solver on `decomp` allocates on this rank, for core::check_memory: the MAC
+  /// fields (u, u*, rhs, force: 3 reals; phi, psi, div, solid: 1) with their ghost layers, the
+  /// pressure solve (7-point matrix, multigrid hierarchy, Krylov vectors: ~300 B per cell) and
+  /// an output step (8 reals per cell).
+  static std::vector<core::MemoryItem> memory_estimate(const grid::Decomposition& decomp) {
+    const core::Index3 n = decomp.local_cells();
+    const double cells =
+        double(n.x + 2 * kGhosts) * double(n.y + 2 * kGhosts) * double(n.z + 2 * kGhosts);
+    const double owned = double(n.x) * double(n.y) * double(n.z);
+    return {{"fields", 16 * 8 * cells}, {"pressure solve", 300 * owned}, {"output", 8 * 8 * owned}};
+  }
   MacSolver(const MacSolver&) = delete;  // the halo exchanges point into the member fields
   MacSolver& operator=(const MacSolver&) = delete;
 
