@@ -8,8 +8,6 @@
 #include <cstdio>
 
 #include <toml++/toml.h>
-#include <fstream>
-#include <sstream>
 
 #include "app/flock_bench.hpp"
 #include "app/lbm_bench.hpp"
@@ -107,13 +105,10 @@ scenarios::ScenarioInfo scenario_of(const std::string& deck,
   for (auto& s : all) names += (names.empty() ? "" : ", ") + s.name;
   core::ConfigSchema only;
   only.add_string("scenario", std::nullopt, {}, "scenario");
-  std::ifstream in(deck);
-  if (!in) throw core::InputError(deck + ": cannot open deck (missing or unreadable file)");
-  std::stringstream buf;
-  buf << in.rdbuf();
+  const std::string text = core::read_deck_text(deck);
   std::string name;
   try {
-    auto table = toml::parse(buf.str(), deck);
+    auto table = toml::parse(text, deck);
     if (auto v = table["scenario"].value<std::string>()) name = *v;
   } catch (const toml::parse_error& e) {
     throw core::InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", deck,
@@ -121,7 +116,7 @@ scenarios::ScenarioInfo scenario_of(const std::string& deck,
                                        e.description()));
   }
   for (const auto& ov : overrides)
-    if (ov.rfind("scenario=", 0) == 0) name = ov.substr(9);
+    if (ov.rfind("scenario=", 0) == 0) name = core::override_string_value(ov.substr(9));
   if (name.empty())
     throw core::InputError(deck + ": required key 'scenario' is missing; allowed: one of {" +
                            names + "}");
@@ -272,6 +267,11 @@ int main(int argc, char** argv) {
     }
     if (*bench) return app::run_lbm_bench(MPI_COMM_WORLD, bench_opts);
     if (*run || *check) {
+      // `--restart "$CKPT"` with an empty variable would start from scratch without a word.
+      if (run->count("--restart") > 0 && restart.empty())
+        throw core::InputError(
+            "--restart \"\": give a checkpoint file or `latest` (or leave --restart out to start "
+            "from the deck)");
       auto info = scenario_of(deck, overrides);
       auto schema = schema_for(info);
       auto cfg = core::Config::from_file(schema, deck, overrides);

@@ -4,6 +4,7 @@
 
 #include <toml++/toml.h>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -236,13 +237,29 @@ void check_value(const std::string& source, const std::string& key, const KeySpe
 
 }  // namespace
 
-Config Config::from_file(const ConfigSchema& schema, const std::string& file,
-                         const std::vector<std::string>& overrides) {
+std::string read_deck_text(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw InputError(fmt::format("{}: is a directory, not a deck file", file));
   std::ifstream in(file);
   if (!in) throw InputError(fmt::format("{}: cannot open deck (missing or unreadable file)", file));
   std::stringstream buf;
   buf << in.rdbuf();
-  return from_string(schema, buf.str(), file, overrides);
+  return buf.str();
+}
+
+std::string override_string_value(const std::string& value) {
+  try {
+    const auto t = toml::parse("v = " + value);
+    if (auto s = t["v"].value<std::string>()) return *s;
+  } catch (const toml::parse_error&) {
+  }
+  return value;
+}
+
+Config Config::from_file(const ConfigSchema& schema, const std::string& file,
+                         const std::vector<std::string>& overrides) {
+  return from_string(schema, read_deck_text(file), file, overrides);
 }
 
 Config Config::from_string(const ConfigSchema& schema, const std::string& text,

@@ -67,6 +67,11 @@ class ConfigSchema {
 std::string describe_range(const KeySpec& spec);
 /// \brief Render a value as TOML text.
 std::string to_toml_text(const ConfigValue& v);
+/// \brief The text of a deck file. \throws InputError for a missing or unreadable file or a
+/// directory (which an ifstream opens and reads as empty: "required key 'scenario' is missing").
+std::string read_deck_text(const std::string& file);
+/// \brief The string a `--set key=value` gives a string key: TOML ("flock", 'flock') or bare.
+std::string override_string_value(const std::string& value);
 
 /// \brief A deck validated against a schema; holds the effective value of every declared key
 /// that has a value (given or default).

@@ -38,6 +38,19 @@ with tempfile.TemporaryDirectory() as tmp:
              "--set", "run.progress_interval=10"]
     p = run(1, ["check", DECK])
     expect(p.returncode == 0 and "OK" in p.stdout, "biota check input/tank.toml")
+    # A deck key given quoted or bare on the command line, the scenario too (session 41: the
+    # scenario's quotes were kept: 'scenario = ""tank"" is not a known scenario').
+    for value in ('"tank"', "tank"):
+        p = run(1, ["check", DECK, "--set", f"scenario={value}"])
+        expect(p.returncode == 0 and "OK" in p.stdout, f"biota check --set scenario={value}")
+    # A directory for the deck, and an empty --restart (an unset "$CKPT" would start from scratch
+    # without a word): one line each, exit 2, on 2 ranks.
+    for args, needle in ((["run", tmp], f"{tmp}: is a directory, not a deck file"),
+                         (["run", DECK, "--restart", ""], '--restart "": give a checkpoint file or')):
+        p = run(2, args)
+        lines = [l for l in p.stderr.splitlines() if l.startswith("biota: error:")]
+        expect(p.returncode == 2 and len(lines) == 1 and needle in lines[0],
+               f"biota {' '.join(args[:1])} ... stops with one line: {lines}")
     p = subprocess.run([BIOTA, "--version"], capture_output=True, text=True)
     expect(p.returncode == 0 and "HDF5" in p.stdout and "VTK" in p.stdout
            and "instructions: " in p.stdout, "biota --version")

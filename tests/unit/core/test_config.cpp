@@ -87,3 +87,21 @@ TEST(Config, IntegerBoundsAreExactAbove2To53) {
   EXPECT_NO_THROW(Config::from_string(s, "seed = 1000000000000000000\n", "deck.toml"));
   EXPECT_THROW(Config::from_string(s, "seed = 1000000000000000001\n", "deck.toml"), InputError);
 }
+
+TEST(Config, OverrideStringValueQuotedOrBare) {
+  EXPECT_EQ(override_string_value("\"flock\""), "flock");
+  EXPECT_EQ(override_string_value("'flock'"), "flock");
+  EXPECT_EQ(override_string_value("flock"), "flock");
+  EXPECT_EQ(override_string_value("out/dir name"), "out/dir name");
+  EXPECT_EQ(override_string_value("3"), "3");  // not a TOML string: the text as given
+}
+
+TEST(Config, ReadDeckTextRejectsADirectoryAndAMissingFile) {
+  try {
+    read_deck_text(".");
+    FAIL() << "a directory was read as a deck";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(".: is a directory, not a deck file"), std::string::npos);
+  }
+  EXPECT_THROW(read_deck_text("no/such/deck.toml"), InputError);
+}
