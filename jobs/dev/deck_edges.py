@@ -7,11 +7,15 @@ hair inside it, an infinite end as +-1e300) for 2 steps on 2 ranks. A run passes
 or 2 or 3 with exactly one `biota: error:` line. Anything else (a signal, exit 1 with an internal
 message, several error lines, no end within the timeout) is printed as BAD and listed at the end.
 
-A development tool, not a test: the whole sweep takes 30-60 minutes on 2 cores. Run it after
-`jobs/build.sh`, on an otherwise idle machine (it must not share the cores with a build, which
-replaces the binary under the runs):
+With --lists, the list-of-reals keys instead (session 41): every element at +1e300, every
+element at -1e300 and every element 0 for a list of fixed length; the empty list, [1e300] and
+[-1e300] for a list of any length. (Non-finite elements and wrong lengths are the schema's.)
 
-    jobs/dev/deck_edges.py [scenario ...] [--timeout S]     # default: all six, 90 s per run
+A development tool, not a test: the whole sweep takes 30-60 minutes on 2 cores (--lists about
+15). Run it after `jobs/build.sh`. It must not share the cores with a build that replaces the
+binary under the runs: give it a copy (--biota), or wait.
+
+    jobs/dev/deck_edges.py [scenario ...] [--lists] [--timeout S] [--biota PATH]
 """
 import argparse
 import os
@@ -29,6 +33,14 @@ DECKS = {'tank': 'input/tank.toml', 'seaweed': 'input/seaweed.toml', 'wind': 'in
 SKIP = {'run.end_time', 'run.steps', 'checkpoint.interval', 'output.interval',
         'run.progress_interval'}
 ROW = re.compile(r'\| `([\w.]+)` \| (real|integer) \| [^|]* \| ([\[(])([^,]+), ([^\])]+)([\])]) \|')
+LIST_ROW = re.compile(r'\| `([\w.]+)` \| list of reals \| [^|]* \| list of (?:(\d+) )?reals \|')
+
+
+def list_values(length):
+    if length:
+        n = int(length)
+        return ['[' + ', '.join([v] * n) + ']' for v in ('1e300', '-1e300', '0')]
+    return ['[]', '[1e300]', '[-1e300]']
 
 
 def edge_values(typ, lb, lo, hi, rb):
@@ -49,6 +61,9 @@ def main():
     ap.add_argument('scenarios', nargs='*', metavar='scenario',
                     help=f'one of {", ".join(DECKS)} (default: all)')
     ap.add_argument('--timeout', type=float, default=90, help='seconds per run (> 0)')
+    ap.add_argument('--lists', action='store_true', help='the list-of-reals keys instead')
+    ap.add_argument('--biota', default=os.path.join(ROOT, 'build', 'biota'),
+                    help='the binary (default: build/biota)')
     args = ap.parse_args()
     for name in args.scenarios:
         if name not in DECKS:
@@ -66,14 +81,20 @@ def main():
             if scenario not in args.scenarios:
                 continue
             for line in body.splitlines():
-                m = ROW.match(line)
-                if not m or m.group(1) in SKIP:
-                    continue
-                key, typ, lb, lo, hi, rb = m.groups()
-                for value in edge_values(typ, lb, lo, hi, rb):
+                if args.lists:
+                    m = LIST_ROW.match(line)
+                    if not m:
+                        continue
+                    key, values = m.group(1), list_values(m.group(2))
+                else:
+                    m = ROW.match(line)
+                    if not m or m.group(1) in SKIP:
+                        continue
+                    key, values = m.group(1), edge_values(*m.groups()[1:])
+                for value in values:
                     out = os.path.join(tmp, scenario)
                     shutil.rmtree(out, ignore_errors=True)
-                    cmd = ['mpirun', '-np', '2', os.path.join(ROOT, 'build', 'biota'), 'run',
+                    cmd = ['mpirun', '-np', '2', args.biota, 'run',
                            os.path.join(ROOT, DECKS[scenario]), '--set', f'{key}={value}',
                            '--set', 'run.steps=2', '--set', f'output.dir={out}',
                            '--set', f'checkpoint.dir={out}/ck']
