@@ -5,19 +5,19 @@
 Each dir holds seaweed_clusters.csv (written by the seaweed scenario). Uses matplotlib (Debian:
 python3-matplotlib; with a pyenv python, call /usr/bin/python3).
 """
-import csv
-import sys
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-out = sys.argv[1]
+from script_args import arguments, csv_rows, labelled_runs, png_path  # noqa: E402
+
+args = arguments(2)
+out = png_path(args[0])
+runs = labelled_runs(args[1:], "seaweed_clusters.csv", "seaweed")
 fig, ax = plt.subplots(1, 3, figsize=(14, 4))
-for arg in sys.argv[2:]:
-    label, d = arg.split("=", 1)
-    rows = list(csv.DictReader(open(f"{d}/seaweed_clusters.csv")))
+for label, path in runs:
+    rows = csv_rows(path, ["time", "largest_share", "clusters", "contacts"])
     t = [float(r["time"]) for r in rows]
     ax[0].plot(t, [float(r["largest_share"]) for r in rows], label=label)
     ax[1].plot(t, [int(r["clusters"]) for r in rows], label=label)

@@ -7,19 +7,14 @@ Writes <out_prefix>_avalanches.png: the avalanche size distribution P(s) on loga
 <out_prefix>_polarisation.png: the polarisation (order parameter) over time with the number of
 fleeing prey. Prints the fitted exponent. Input: flock_avalanches.csv and flock_order.csv.
 """
-import csv
 import math
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
+from script_args import arguments, csv_rows, image_prefix, run_file  # noqa: E402
 
 
 def log_binned(sizes, per_decade=5):
@@ -54,9 +49,10 @@ def fit_slope(xs, ys):
     return slope, my - slope * mx
 
 
-out_dir, prefix = sys.argv[1], sys.argv[2]
-aval = read(f"{out_dir}/flock_avalanches.csv")
-order = read(f"{out_dir}/flock_order.csv")
+args = arguments(2, 2)
+out_dir, prefix = args[0], image_prefix(args[1])
+aval = csv_rows(run_file(out_dir, "flock_avalanches.csv", "flock"), ["size"])
+order = csv_rows(run_file(out_dir, "flock_order.csv", "flock"), ["time", "polarisation", "fleeing"])
 sizes = [int(r["size"]) for r in aval]
 xs, ys = log_binned(sizes)
 slope, icpt = fit_slope(xs, ys)

@@ -7,27 +7,22 @@ days (solid) and those in the region 'back' (under the roof and the back floor, 
 colour per run; e.g. experiment 1 (indirect=out/base direct=out/noind) and experiment 2
 (288.15K=out/base 293.15K=out/warm) on one figure. Prints the last row of each run.
 """
-import csv
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
+from script_args import arguments, csv_rows, image_prefix, labelled_runs  # noqa: E402
 
 
-prefix = sys.argv[1]
-runs = [a.split("=", 1) for a in sys.argv[2:]]
-if not runs:
-    sys.exit("usage: plot_moss.py <out_prefix> <label>=<output.dir> ...")
+COLUMNS = ["day", "live", "back", "open", "roof", "bryum", "hypnum", "polytrichum"]
+args = arguments(2)
+prefix = image_prefix(args[0])
+runs = labelled_runs(args[1:], "moss_counts.csv", "moss")
 fig, ax = plt.subplots(figsize=(8, 5))
-for k, (label, d) in enumerate(runs):
-    rows = read(f"{d}/moss_counts.csv")
+for k, (label, path) in enumerate(runs):
+    rows = csv_rows(path, COLUMNS)
     day = [int(r["day"]) for r in rows]
     colour = f"C{k}"
     ax.plot(day, [int(r["live"]) for r in rows], color=colour, label=f"{label}: all")

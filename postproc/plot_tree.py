@@ -5,24 +5,23 @@
 Reads <output.dir>/trees.csv of each run (the scenario's per-tree series) and plots the tip
 displacement of every tree (one line per tree and run, the run's colour).
 """
-import csv
-import os
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-png = sys.argv[1]
+from script_args import arguments, csv_rows, labelled_runs, png_path  # noqa: E402
+
+args = arguments(2)
+png = png_path(args[0])
+runs = labelled_runs(args[1:], "trees.csv", "tree")
 fig, ax = plt.subplots(figsize=(7, 4.5))
-for n, arg in enumerate(sys.argv[2:]):
-    label, path = arg.split("=", 1)
+for n, (label, path) in enumerate(runs):
     series = {}
-    with open(os.path.join(path, "trees.csv")) as f:
-        for row in csv.DictReader(f):
-            series.setdefault(int(row["tree"]), []).append(
-                (float(row["time"]), float(row["tip_displacement"])))
+    for row in csv_rows(path, ["tree", "time", "tip_displacement"]):
+        series.setdefault(int(row["tree"]), []).append(
+            (float(row["time"]), float(row["tip_displacement"])))
     colour = "C%d" % n
     for k, (tree, pts) in enumerate(sorted(series.items())):
         ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour,

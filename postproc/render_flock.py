@@ -8,14 +8,12 @@ L^3 sandpile heights, drawn as a small translucent cube beside the box). `index`
 step (default: the last).
 """
 import os
-import sys
 
-from pv_common import open_series_at, png_argument, save_png, white_view
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
+from pv_common import open_series_at, render_arguments, save_png, white_view
+from paraview.simple import (ColorBy, GetColorTransferFunction, Glyph,
                              OpenDataFile, Render, Show, UpdatePipeline)
 
-out_dir, png = sys.argv[1], png_argument(sys.argv[2])
-index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+out_dir, png, index = render_arguments("flock_boids.pvd", "flock")
 view = white_view()
 boids, t = open_series_at(view, out_dir, "flock_boids.pvd", index)
 

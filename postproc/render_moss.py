@@ -8,15 +8,13 @@ cell data) and <output.dir>/moss.pvd (the live mosses, drawn as 1 cm cubes colou
 looks from the front, above, into the space under the roof at the back.
 """
 import os
-import sys
 
-from pv_common import open_series_at, png_argument, save_png, white_view
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction, Glyph,
+from pv_common import open_series_at, render_arguments, save_png, white_view
+from paraview.simple import (ColorBy, GetColorTransferFunction, Glyph,
                              GetScalarBar, OpenDataFile, Render, Show,
                              UpdatePipeline)
 
-out_dir, png = sys.argv[1], png_argument(sys.argv[2])
-index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+out_dir, png, index = render_arguments("moss_surface.pvd", "moss")
 view = white_view()
 terrain, t = open_series_at(view, out_dir, "moss_surface.pvd", index)
 td = Show(terrain, view)

@@ -7,14 +7,12 @@ and, if present, <output.dir>/seaweed.pvd (LBM fields; a vertical slice coloured
 `index` picks the time step (default: the last).
 """
 import os
-import sys
 
-from pv_common import open_series_at, png_argument, save_png, white_view
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, Glyph, OpenDataFile, Render,
-                             Show, Slice, UpdatePipeline)
+from pv_common import open_series_at, render_arguments, save_png, white_view
+from paraview.simple import (ColorBy, Glyph, OpenDataFile, Render,
+                             Show, Slice)
 
-out_dir, png = sys.argv[1], png_argument(sys.argv[2])
-index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+out_dir, png, index = render_arguments("seaweed_particles.pvd", "seaweed")
 view = white_view()
 parts, t = open_series_at(view, out_dir, "seaweed_particles.pvd", index)
 

@@ -8,15 +8,13 @@ along the wind through the first tree coloured by speed, and streamlines seeded 
 line upstream of the trees). `index` picks the time step (default: the last).
 """
 import os
-import sys
 
-from pv_common import open_series_at, png_argument, save_png, white_view
-from paraview.simple import (CellDatatoPointData, ColorBy, GetActiveViewOrCreate, OpenDataFile,
+from pv_common import open_series_at, render_arguments, save_png, white_view
+from paraview.simple import (CellDatatoPointData, ColorBy, OpenDataFile,
                              Render, Show, Slice, StreamTracer, Tube,
                              UpdatePipeline)
 
-out_dir, png = sys.argv[1], png_argument(sys.argv[2])
-index = int(sys.argv[3]) if len(sys.argv) > 3 else -1
+out_dir, png, index = render_arguments("tree_nodes.pvd", "tree")
 view = white_view()
 trees, t = open_series_at(view, out_dir, "tree_nodes.pvd", index)
 (x0, x1, y0, y1, z0, z1) = trees.GetDataInformation().GetBounds()

@@ -16,4 +16,24 @@ done
 "$src/postproc/headless.sh" pvpython "$src/postproc/render_tree.py" out10 snapshot.png
 /usr/bin/python3 "$src/postproc/plot_tree.py" tips.png "5 m/s=out5" "10 m/s=out10"
 test -s snapshot.png && test -s tips.png
+# Mistakes a user makes with the scripts: one line on stderr and exit 2 each, no image written
+# (they used to end in a traceback, or wrote a figure named after the mistyped argument).
+expect_error() {  # <text the line must hold> <command...>
+  needle=$1; shift; rc=0
+  "$@" >stdout.txt 2>stderr.txt || rc=$?
+  lines=$(grep -c "error:" stderr.txt || true)
+  if [ "$rc" != 2 ] || [ "$lines" != 1 ] || ! grep -q -F "$needle" stderr.txt; then
+    echo "FAIL: $* gave exit $rc and:"; cat stderr.txt; exit 1
+  fi
+}
+expect_error "'nowhere' is not a directory" /usr/bin/python3 "$src/postproc/plot_tree.py" t.png a=nowhere
+mkdir -p empty
+expect_error "empty/trees.csv: no such file" /usr/bin/python3 "$src/postproc/plot_tree.py" t.png a=empty
+expect_error "'out10': expected <label>=<output.dir>" /usr/bin/python3 "$src/postproc/plot_tree.py" t.png out10
+expect_error "the image path must end in .png" /usr/bin/python3 "$src/postproc/plot_tree.py" t.pdf a=out10
+head -1 out10/trees.csv > empty/trees.csv
+expect_error "empty/trees.csv: no rows yet" /usr/bin/python3 "$src/postproc/plot_tree.py" t.png a=empty
+expect_error "index 99: tree_nodes.pvd has" "$src/postproc/headless.sh" pvpython "$src/postproc/render_tree.py" out10 r.png 99
+expect_error "empty/tree_nodes.pvd: no such file" "$src/postproc/headless.sh" pvpython "$src/postproc/render_tree.py" empty r.png
+test ! -e t.png && test ! -e t.pdf && test ! -e r.png
 echo OK
