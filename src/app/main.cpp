@@ -283,8 +283,11 @@ int main(int argc, char** argv) {
         core::Timers timers;
         scenarios::RunContext ctx{MPI_COMM_WORLD, cfg, timers, cfg.get_string("output.dir"),
                                   solver_options};
-        info.create(ctx);
-        if (root) fmt::print("{}: OK\n", deck);
+        const auto scenario = info.create(ctx);
+        app::loop_settings(cfg, scenario->dt());  // the run's length and cadences, as a run
+        const std::string& name = cfg.get_string("scenario");
+        app::warn_unused_keys(cfg, root);
+        if (root) fmt::print("{}: OK (scenario {})\n", deck, name);
         return 0;
       }
       app::install_signal_handlers();

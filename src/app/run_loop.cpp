@@ -127,7 +127,9 @@ void declare_common_config(core::ConfigSchema& s) {
   s.add_int("run.health_interval", 100, 1, 1'000'000'000'000,
             "steps between checks for non-finite or out-of-range state");
   s.add_int("seed", 12345, 0, 1'000'000'000'000'000'000,
-            "seed of every random stream (Philox key)");
+            "seed of the scenario's random streams (Philox key): the flock, the moss, the "
+            "forest's tree sites; the seaweed's growth has growth.seed and a tree species its "
+            "own seed");
   s.add_string("output.dir", "out", {}, "directory for HDF5/XDMF/VTK output");
   s.add_int("output.interval", 0, 0, 1'000'000'000'000,
             "steps between output steps (0: only the first and last step)");
@@ -138,13 +140,53 @@ void declare_common_config(core::ConfigSchema& s) {
             "steps between checkpoints (0: only at the end and on SIGTERM/SIGINT)");
 }
 
+void warn_unused_keys(const core::Config& cfg, bool root) {
+  const auto keys = cfg.unused_given_keys();
+  if (!root || keys.empty()) return;
+  std::string list;
+  for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+  fmt::print(stderr,
+             "biota: warning: {}: given but not used by this run (a key of another mode of the "
+             "scenario has no effect; docs/deck-reference.md): {}\n",
+             cfg.source(), list);
+}
+
+namespace {
+void require_run_length(const core::Config& cfg) {
+  if (!cfg.has("run.steps") && !cfg.has("run.end_time"))
+    cfg.fail("run.steps", "and run.end_time are both missing; give at least one");
+}
+}  // namespace
+
+LoopSettings loop_settings(const core::Config& cfg, double dt) {
+  require_run_length(cfg);
+  LoopSettings loop;
+  loop.last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;
+  if (cfg.has("run.end_time")) {
+    const double end_time = cfg.get_real("run.end_time");
+    const long long end_step = std::llround(end_time / dt);
+    // A positive end time that rounds to step 0 selects no step: a unit slip (seconds for a
+    // scenario whose step is a day), not a request for an empty run.
+    if (end_time > 0 && end_step == 0)
+      cfg.fail("run.end_time",
+               fmt::format("s is shorter than half of the scenario's time step ({} s), so the run "
+                           "would take no step; allowed: 0 or >= {} s",
+                           dt, 0.5 * dt));
+    loop.last_step = std::min(loop.last_step, end_step);
+  }
+  loop.out_every = cfg.get_int("output.interval");
+  loop.ckpt_every = cfg.get_int("checkpoint.interval");
+  loop.progress_every = cfg.get_int("run.progress_interval");
+  loop.health_every = cfg.get_int("run.health_interval");
+  return loop;
+}
+
 int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& restart_arg,
                  const std::vector<std::string>& solver_options) {
   const bool root = rank0(comm);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (!cfg.has("run.steps") && !cfg.has("run.end_time"))
-    cfg.fail("run.steps", "and run.end_time are both missing; give at least one");
+  require_run_length(cfg);  // before the set-up, which may take a while
   const std::string out_dir = cfg.get_string("output.dir");
   const std::string ckpt_dir = checkpoint_dir(cfg);
   const std::string name = cfg.get_string("scenario");
@@ -171,26 +213,13 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
                  scenario->step_index(), scenario->time());
   }
   const double dt = scenario->dt();
-  long long last_step = cfg.has("run.steps") ? cfg.get_int("run.steps") : LLONG_MAX;
-  if (cfg.has("run.end_time")) {
-    const double end_time = cfg.get_real("run.end_time");
-    const long long end_step = std::llround(end_time / dt);
-    // A positive end time that rounds to step 0 selects no step: a unit slip (seconds for a
-    // scenario whose step is a day), not a request for an empty run.
-    if (end_time > 0 && end_step == 0)
-      cfg.fail("run.end_time",
-               fmt::format("s is shorter than half of the scenario's time step ({} s), so the run "
-                           "would take no step; allowed: 0 or >= {} s",
-                           dt, 0.5 * dt));
-    last_step = std::min(last_step, end_step);
-  }
+  const LoopSettings loop = loop_settings(cfg, dt);
+  const long long last_step = loop.last_step, out_every = loop.out_every,
+                  ckpt_every = loop.ckpt_every, progress_every = loop.progress_every,
+                  health_every = loop.health_every;
   ensure_dir(comm, cfg, "output.dir", out_dir, true);
   ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
 
-  const long long out_every = cfg.get_int("output.interval");
-  const long long ckpt_every = cfg.get_int("checkpoint.interval");
-  const long long progress_every = cfg.get_int("run.progress_interval");
-  const long long health_every = cfg.get_int("run.health_interval");
   std::string last_checkpoint = restart_path.empty() ? "(none)" : restart_path;
   agreement.set_note("last good checkpoint: " + last_checkpoint);
   // One phase of the loop: the test hook fails it on one rank, then every rank agrees.
@@ -255,7 +284,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   std::string table, traffic;
   try {
     if (restart_path.empty() || out_every > 0) output();
-    int stop_signal = 0;  // reduced over ranks: every rank takes the same decisions from it
+    warn_unused_keys(cfg, root);  // after set-up and the first output have read their keys
+    int stop_signal = 0;          // reduced over ranks: every rank takes the same decisions from it
     while (scenario->step_index() < last_step) {
       // The step's agreement carries the signal flag: one small allreduce per step, as before.
       int any_signal = 0;

@@ -286,7 +286,7 @@ Config Config::from_string(const ConfigSchema& schema, const std::string& text,
       throw InputError(fmt::format("{}: {} = {} has the wrong type; expected {}: {}", source, key,
                                    node_text(*node), type_name(spec->type), describe_range(*spec)));
     check_value(source, key, *spec, *v, node_text(*node));
-    cfg.values_[key] = *v;
+    cfg.values_[key] = {*v, true};
   }
   for (const auto& ov : overrides) {
     auto eq = ov.find('=');
@@ -313,12 +313,12 @@ Config Config::from_string(const ConfigSchema& schema, const std::string& text,
       throw InputError(fmt::format("--set {} = {} has the wrong type; expected {}: {}", key, val,
                                    type_name(spec->type), describe_range(*spec)));
     check_value("--set", key, *spec, *v, val);
-    cfg.values_[key] = *v;
+    cfg.values_[key] = {*v, true};
   }
   for (const auto& [key, spec] : schema.keys()) {
     if (cfg.values_.count(key)) continue;
     if (spec.default_value)
-      cfg.values_[key] = *spec.default_value;
+      cfg.values_[key] = {*spec.default_value, false};
     else if (!spec.doc.empty() && spec.doc.rfind("(optional)", 0) == 0)
       continue;  // optional without default: absence is meaningful
     else
@@ -331,7 +331,15 @@ Config Config::from_string(const ConfigSchema& schema, const std::string& text,
 const ConfigValue& Config::value(const std::string& key) const {
   auto it = values_.find(key);
   if (it == values_.end()) throw std::logic_error("config key not declared or not set: " + key);
-  return it->second;
+  it->second.used = true;
+  return it->second.value;
+}
+
+std::vector<std::string> Config::unused_given_keys() const {
+  std::vector<std::string> keys;
+  for (const auto& [key, entry] : values_)
+    if (entry.given && !entry.used) keys.push_back(key);
+  return keys;
 }
 
 bool Config::get_bool(const std::string& key) const {
@@ -358,7 +366,8 @@ void Config::fail(const std::string& key, const std::string& reason) const {
 std::string Config::effective_toml() const {
   // Group dotted keys under their table headers for readability.
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> groups;
-  for (const auto& [key, v] : values_) {
+  for (const auto& [key, entry] : values_) {
+    const ConfigValue& v = entry.value;
     auto dot = key.rfind('.');
     std::string table = dot == std::string::npos ? "" : key.substr(0, dot);
     std::string leaf = dot == std::string::npos ? key : key.substr(dot + 1);

@@ -85,7 +85,11 @@ class Config {
                             const std::string& source_name,
                             const std::vector<std::string>& overrides = {});
 
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  /// \brief Whether the key has a value; counts as a use of it (see unused_given_keys).
+  bool has(const std::string& key) const {
+    auto it = values_.find(key);
+    return it != values_.end() && (it->second.used = true);
+  }
   bool get_bool(const std::string& key) const;
   std::int64_t get_int(const std::string& key) const;
   double get_real(const std::string& key) const;
@@ -98,11 +102,20 @@ class Config {
   std::string effective_toml() const;
   const std::string& source() const { return source_; }
   const ConfigSchema& schema() const { return *schema_; }
+  /// \brief Keys the deck or `--set` gave that nothing has read yet (has() or get_*()): keys of
+  /// another mode of the scenario (a moving-wall velocity on a face that is not a moving wall,
+  /// the general growth model's tables under the Ulva model), which a run ignores.
+  std::vector<std::string> unused_given_keys() const;
 
  private:
   const ConfigSchema* schema_ = nullptr;
   std::string source_;
-  std::map<std::string, ConfigValue> values_;
+  struct Entry {
+    ConfigValue value;
+    bool given = false;         ///< by the deck or --set (not a default)
+    mutable bool used = false;  ///< read by has() or get_*()
+  };
+  std::map<std::string, Entry> values_;
   const ConfigValue& value(const std::string& key) const;
 };
 

@@ -89,6 +89,9 @@ solvers::mac::MacParams wind_params_from_config(const core::Config& cfg) {
     for (int side = 0; side < 2; ++side) {
       const std::string key = "wind.boundary." + solvers::mac::face_name(a, side);
       p.boundaries[a][side].type = solvers::mac::parse_boundary_type(cfg.get_string(key), key);
+      // Only a noslip wall moves; read the velocity there alone, so that one given for another
+      // kind of face is reported as unused (Config::unused_given_keys) instead of ignored.
+      if (p.boundaries[a][side].type != solvers::mac::BoundaryType::kNoSlip) continue;
       const auto& w = cfg.get_real_list(key + "_velocity");
       p.boundaries[a][side].wall_velocity = {w[0], w[1], w[2]};
     }

@@ -105,3 +105,19 @@ TEST(Config, ReadDeckTextRejectsADirectoryAndAMissingFile) {
   }
   EXPECT_THROW(read_deck_text("no/such/deck.toml"), InputError);
 }
+
+TEST(Config, UnusedGivenKeysAreTheGivenOnesNothingRead) {
+  ConfigSchema s;
+  s.add_real("a", 1.0, 0.0, 10.0, "", "read");
+  s.add_real("b", 1.0, 0.0, 10.0, "", "given, never read");
+  s.add_real("c", 1.0, 0.0, 10.0, "", "a default, never read");
+  s.add_real("d", 1.0, 0.0, 10.0, "", "given, asked for by has()");
+  s.add_real("e", 1.0, 0.0, 10.0, "", "given by --set, never read");
+  const auto cfg = Config::from_string(s, "a = 2\nb = 3\nd = 4\n", "deck.toml", {"e=5"});
+  EXPECT_EQ(cfg.unused_given_keys(), (std::vector<std::string>{"a", "b", "d", "e"}));
+  cfg.get_real("a");
+  EXPECT_TRUE(cfg.has("d"));
+  EXPECT_EQ(cfg.unused_given_keys(), (std::vector<std::string>{"b", "e"}));
+  EXPECT_NE(cfg.effective_toml().find("b = 3"), std::string::npos);  // printing is not a use
+  EXPECT_EQ(cfg.unused_given_keys(), (std::vector<std::string>{"b", "e"}));
+}
