@@ -5,10 +5,8 @@
 #include <time.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numbers>
-#include <thread>
 #include <vector>
 
 #include "app/bench_stats.hpp"
