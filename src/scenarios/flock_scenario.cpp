@@ -87,12 +87,14 @@ FlockScenario::FlockScenario(const RunContext& ctx) : ctx_(ctx) {
   w_flee_boost_ = c.get_real("flock.prey.flee_boost_weight");
   flee_frames_ = c.get_int("flock.prey.flee_frames");
   n_pred_ = c.get_int("flock.predator.count");
-  pred_vmax_ = c.get_real("flock.predator.max_speed");
-  pred_amax_ = c.get_real("flock.predator.max_accel");
-  w_chase_ = c.get_real("flock.predator.chase_weight");
-  pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
-  const auto& ps = c.get_real_list("flock.predator.start");
-  pred_start_ = {ps[0], ps[1], ps[2]};
+  if (n_pred_ > 0) {  // without a predator its keys are not read (reported as unused)
+    pred_vmax_ = c.get_real("flock.predator.max_speed");
+    pred_amax_ = c.get_real("flock.predator.max_accel");
+    w_chase_ = c.get_real("flock.predator.chase_weight");
+    pred_start_step_ = std::llround(c.get_real("flock.predator.start_time") / dt_);
+    const auto& ps = c.get_real_list("flock.predator.start");
+    pred_start_ = {ps[0], ps[1], ps[2]};
+  }
   // Points of the deck must lie in the box (a point outside selects no rank's cell); a point
   // the deck does not use (no predator, the uniform take-off) is not checked.
   for (const char* key : {"flock.predator.start", "flock.takeoff.origin"}) {
