@@ -83,8 +83,8 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
         "[flock.noise]\nheading = 0.0\ncruising_distance = 0.0\nmax_speed = 0.0\n"
         "[flock.takeoff]\nifs = \"uniform\"\n",
         side, R, n, opts.reach, opts.balance_interval);
-    // Errors of the generated deck name the option that set it (e.g. a box too thin for the
-    // ranks: `bench flock --boids 300 on 3 ranks: flock.boids.perception_radius = 3 m ...`).
+    // Errors of the generated deck name the option that set it (e.g. `bench flock --boids
+    // 20000000 (rank 0 alone): flock.prey.count = 20000000 prey ... need about 6.24 GB ...`).
     const auto cfg = core::Config::from_string(
         schema, deck,
         csize < size ? fmt::format("bench flock --boids {} (rank 0 alone)", n)
@@ -135,8 +135,8 @@ int run_flock_bench(MPI_Comm comm, const FlockBenchOptions& opts) {
   // efficiency then compares two figures of the same minutes, not of two runs.
   MPI_Comm solo = MPI_COMM_NULL;
   if (size > 1) MPI_Comm_split(comm, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
-  // A case that fails on rank 0 alone (a box too small for the ranks is found there first) must
-  // not leave the other ranks waiting for it: every case ends in an agreement.
+  // A case that fails on rank 0 alone (its memory is checked there first) must not leave the
+  // other ranks waiting for it: every case ends in an agreement.
   core::ErrorAgreement agreement(comm);
   for (long long n : opts.boids) {
     std::vector<double> efficiency;

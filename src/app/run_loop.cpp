@@ -178,6 +178,7 @@ LoopSettings loop_settings(const core::Config& cfg, double dt) {
   loop.ckpt_every = cfg.get_int("checkpoint.interval");
   loop.progress_every = cfg.get_int("run.progress_interval");
   loop.health_every = cfg.get_int("run.health_interval");
+  loop.checkpoint_dir = checkpoint_dir(cfg);
   return loop;
 }
 

@@ -16,10 +16,11 @@ namespace biota::app {
 void declare_common_config(core::ConfigSchema& schema);
 
 /// \brief What the time loop reads from the deck: the last step (run.steps and run.end_time over
-/// the scenario's `dt`) and the cadences. \throws InputError for a run of no step or no length.
-/// `biota check` calls it too, so it checks the run's length as a run does.
+/// the scenario's `dt`), the cadences and the checkpoint directory. \throws InputError for a run of
+/// no step or no length. `biota check` calls it too, so it checks the run's length as a run does.
 struct LoopSettings {
   long long last_step = 0, out_every = 0, ckpt_every = 0, progress_every = 1, health_every = 1;
+  std::string checkpoint_dir;  ///< checkpoint.dir, or <output.dir>/checkpoints
 };
 LoopSettings loop_settings(const core::Config& cfg, double dt);
 
