@@ -10,6 +10,7 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <filesystem>
 #include <map>
 
 #include "core/error.hpp"
@@ -47,13 +48,31 @@ void write_vtp(const std::string& path, const models::plants::TurtleGeometry& g)
   vtkNew<vtkXMLPolyDataWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(poly);
-  if (w->Write() != 1) throw core::InputError(path + ": cannot write the VTK file (--vtk)");
+  // VTK logs a failed open itself, in colour over several lines, and Write() still returned 1:
+  // its own messages off, the writer's error code and the file decide.
+  vtkObject::GlobalWarningDisplayOff();
+  const int written = w->Write();
+  std::error_code ec;
+  if (written != 1 || w->GetErrorCode() != 0 || !std::filesystem::is_regular_file(path, ec))
+    throw core::InputError(path + ": cannot write the VTK file (--vtk)");
 }
 
 }  // namespace
 
 int run_lsystem_command(const LSystemCommandOptions& opt, bool root) {
   namespace mp = models::plants;
+  // The image file's name and folder before the derivation, which may take a while.
+  if (!opt.vtk.empty()) {
+    const std::filesystem::path vtk(opt.vtk);
+    std::error_code ec;
+    if (vtk.extension() != ".vtp")
+      throw core::InputError(fmt::format(
+          "--vtk {}: the file must end in .vtp (VTK XML poly data, as ParaView reads it)",
+          opt.vtk));
+    if (vtk.has_parent_path() && !std::filesystem::is_directory(vtk.parent_path(), ec))
+      throw core::InputError(fmt::format("--vtk {}: the folder {} does not exist", opt.vtk,
+                                         vtk.parent_path().string()));
+  }
   const auto ls = mp::read_lsystem(opt.file);
   mp::DeriveOptions d;
   d.derivations = opt.derivations;

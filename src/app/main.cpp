@@ -230,8 +230,11 @@ int main(int argc, char** argv) {
   lsystem->add_option("file", lsys.file, ".lsys grammar file")->required();
   lsystem->add_option("--derivations", lsys.derivations, "derivation steps (default: the file's)")
       ->check(CLI::Range(0, 1000));
-  lsystem->add_option("--seed", lsys.seed, "seed of the stochastic productions");
-  lsystem->add_option("--tree-id", lsys.tree_id, "tree id (second key of the random stream)");
+  // The ranges of the decks' seeds: CLI11 reads "-1" into an unsigned as 2^64 - 1.
+  lsystem->add_option("--seed", lsys.seed, "seed of the stochastic productions")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1'000'000'000'000'000'000}));
+  lsystem->add_option("--tree-id", lsys.tree_id, "tree id (second key of the random stream)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1'000'000'000'000'000'000}));
   lsystem->add_option("--max-modules", lsys.max_modules, "stop with an error above this length")
       ->check(CLI::Range(1LL, 1'000'000'000LL));
   lsystem->add_option("--vtk", lsys.vtk, "write the segments as polylines with radius (.vtp)");

@@ -7,6 +7,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -450,6 +451,9 @@ LSystem parse_lsystem(const std::string& text, const std::string& file_name) {
 }
 
 LSystem read_lsystem(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw core::InputError(path + ": is a directory, not an L-system file");
   std::ifstream in(path);
   if (!in) throw core::InputError(path + ": cannot read the L-system file");
   std::stringstream ss;

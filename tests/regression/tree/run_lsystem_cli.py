@@ -45,5 +45,15 @@ with tempfile.TemporaryDirectory() as tmp:
                        capture_output=True, text=True)
     expect(p.returncode == 2 and "derivation 7 of 9 exceeds the module cap of 100000 (--max-modules); "
            "allowed: at most 6 derivations" in p.stderr, f"module cap: exit 2, names the options ({p.stderr})")
+    # Session 41: a .vtp into a missing folder exited 0 behind VTK's own colour log, a .txt was
+    # written as XML, --seed -1 wrapped to 2^64 - 1, a directory read as an empty grammar.
+    for args, needle in (([fig1, "--vtk", f"{tmp}/no/such/fig1.vtp"], f"the folder {tmp}/no/such does not exist"),
+                         ([fig1, "--vtk", f"{tmp}/fig1.txt"], "the file must end in .vtp"),
+                         ([fig1, "--seed", "-1"], "--seed: Value -1 not in range 0 to 1000000000000000000"),
+                         ([tmp], f"{tmp}: is a directory, not an L-system file")):
+        p = subprocess.run([BIOTA, "lsystem"] + args, capture_output=True, text=True)
+        lines = [l for l in p.stderr.splitlines() if needle in l]
+        expect(p.returncode == 2 and len(lines) == 1 and "ERR" not in p.stderr
+               and not os.path.exists(f"{tmp}/fig1.txt"), f"lsystem {' '.join(args[1:])}: one line ({p.stderr})")
 
 sys.exit(1 if failures else 0)
