@@ -2,6 +2,7 @@
 under python3): `-h`/`--help` prints the script's docstring; a usage error, a missing input file
 or an image path that is not a .png is one line on stderr and exit 2 (the scripts used to end in a
 traceback, or wrote a figure named after the mistyped argument). No ParaView or matplotlib here."""
+import csv
 import os
 import sys
 
@@ -69,7 +70,6 @@ def labelled_runs(args, name, scenario):
 def csv_rows(path, columns):
     """The rows of a CSV the scenario writes, as dicts; fails if a column is missing or no row is
     there yet (a run stopped before its first row)."""
-    import csv
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
         missing = [c for c in columns if c not in (reader.fieldnames or [])]

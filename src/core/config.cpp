@@ -237,15 +237,20 @@ void check_value(const std::string& source, const std::string& key, const KeySpe
 
 }  // namespace
 
-std::string read_deck_text(const std::string& file) {
+std::string read_input_file(const std::string& path, const std::string& noun,
+                            const std::string& unreadable) {
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec))
-    throw InputError(fmt::format("{}: is a directory, not a deck file", file));
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot open deck (missing or unreadable file)", file));
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(fmt::format("{}: is a directory, not {}", path, noun));
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: {}", path, unreadable));
   std::stringstream buf;
   buf << in.rdbuf();
   return buf.str();
+}
+
+std::string read_deck_text(const std::string& file) {
+  return read_input_file(file, "a deck file", "cannot open deck (missing or unreadable file)");
 }
 
 std::string override_string_value(const std::string& value) {

@@ -67,8 +67,12 @@ class ConfigSchema {
 std::string describe_range(const KeySpec& spec);
 /// \brief Render a value as TOML text.
 std::string to_toml_text(const ConfigValue& v);
-/// \brief The text of a deck file. \throws InputError for a missing or unreadable file or a
-/// directory (which an ifstream opens and reads as empty: "required key 'scenario' is missing").
+/// \brief The text of an input file. \throws InputError "<path>: is a directory, not <noun>" (an
+/// ifstream opens a directory and reads it as empty, which the parsers reported as a missing
+/// key or line) or "<path>: <unreadable>" for a missing or unreadable file.
+std::string read_input_file(const std::string& path, const std::string& noun,
+                            const std::string& unreadable);
+/// \brief The text of a deck file (read_input_file with the deck's wording).
 std::string read_deck_text(const std::string& file);
 /// \brief The string a `--set key=value` gives a string key: TOML ("flock", 'flock') or bare.
 std::string override_string_value(const std::string& value);

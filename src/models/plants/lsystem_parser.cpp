@@ -7,12 +7,11 @@
 
 #include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
 
+#include "core/config.hpp"
 #include "core/error.hpp"
 
 namespace biota::models::plants {
@@ -451,14 +450,8 @@ LSystem parse_lsystem(const std::string& text, const std::string& file_name) {
 }
 
 LSystem read_lsystem(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw core::InputError(path + ": is a directory, not an L-system file");
-  std::ifstream in(path);
-  if (!in) throw core::InputError(path + ": cannot read the L-system file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_lsystem(ss.str(), path);
+  return parse_lsystem(
+      core::read_input_file(path, "an L-system file", "cannot read the L-system file"), path);
 }
 
 ModuleString parse_module_string(const std::string& text) {
