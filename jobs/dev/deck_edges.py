@@ -71,6 +71,8 @@ def main():
     args.scenarios = args.scenarios or list(DECKS)
     if not args.timeout > 0:
         ap.error(f'--timeout {args.timeout}: allowed: > 0 seconds')
+    if not (os.path.isfile(args.biota) and os.access(args.biota, os.X_OK)):
+        ap.error(f'--biota {args.biota}: not an executable file (build it with jobs/build.sh)')
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1')
     reference = open(os.path.join(ROOT, 'docs', 'deck-reference.md')).read()
     sections = re.split(r'^## scenario = "(\w+)"', reference, flags=re.M)
