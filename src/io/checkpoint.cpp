@@ -44,16 +44,20 @@ CheckpointWriter::~CheckpointWriter() = default;
 
 void CheckpointWriter::write_field(const std::string& name, const grid::Field<core::Real>& field,
                                    int c0, int n) {
-  std::vector<hsize_t> global, offset, count;
-  field_block(decomp_, n, global, offset, count);
   const auto e = field.cells();
-  std::vector<double> buf;
-  buf.reserve(static_cast<size_t>(n) * e.product());
-  for (int c = c0; c < c0 + n; ++c)
+  write_components(name, n, [&](int c, double* block) {
     for (int k = 0; k < e.z; ++k)
       for (int j = 0; j < e.y; ++j)
-        for (int i = 0; i < e.x; ++i) buf.push_back(field(i, j, k, c));
-  file_->write_block("/fields/" + name, global, offset, count, buf.data());
+        for (int i = 0; i < e.x; ++i) *block++ = field(i, j, k, c0 + c);
+  });
+}
+
+void CheckpointWriter::write_components(const std::string& name, int n,
+                                        const std::function<void(int, double*)>& fill) {
+  std::vector<hsize_t> global, offset, count;
+  field_block(decomp_, n, global, offset, count);
+  file_->write_slabs("/fields/" + name, global, offset, count,
+                     [&](hsize_t c, double* block) { fill(static_cast<int>(c), block); });
 }
 
 void CheckpointWriter::write_rows(const std::string& name, const std::vector<double>& local_rows,
@@ -142,6 +146,16 @@ bool CheckpointReader::has(const std::string& name) const {
 
 void CheckpointReader::read_field(const std::string& name, grid::Field<core::Real>& field, int c0,
                                   int n) {
+  const auto e = field.cells();
+  read_components(name, n, [&](int c, const double* block) {
+    for (int k = 0; k < e.z; ++k)
+      for (int j = 0; j < e.y; ++j)
+        for (int i = 0; i < e.x; ++i) field(i, j, k, c0 + c) = *block++;
+  });
+}
+
+void CheckpointReader::read_components(const std::string& name, int n,
+                                       const std::function<void(int, const double*)>& use) {
   const std::string ds = "/fields/" + name;
   if (!has(ds)) throw core::InputError(path_ + ": checkpoint has no field '" + name + "'");
   auto dims = h5::dims_of(file_, ds);
@@ -152,14 +166,20 @@ void CheckpointReader::read_field(const std::string& name, grid::Field<core::Rea
                            "' has a different grid size than this run's deck");
   std::vector<hsize_t> global, offset, count;
   field_block(decomp_, n, global, offset, count);
-  const auto e = field.cells();
-  std::vector<double> buf(static_cast<size_t>(n) * e.product());
-  h5::read_block(file_, ds, offset, count, buf.data());
-  size_t p = 0;
-  for (int c = c0; c < c0 + n; ++c)
-    for (int k = 0; k < e.z; ++k)
-      for (int j = 0; j < e.y; ++j)
-        for (int i = 0; i < e.x; ++i) field(i, j, k, c) = buf[p++];
+  count[0] = 1;
+  std::vector<double> block(count[1] * count[2] * count[3]);
+  hid_t dset = h5::open_dataset(file_, ds);
+  try {
+    for (int c = 0; c < n; ++c) {
+      offset[0] = hsize_t(c);
+      h5::read_selection(dset, offset, count, block.data(), H5T_NATIVE_DOUBLE);
+      use(c, block.data());
+    }
+  } catch (...) {
+    H5Dclose(dset);
+    throw;
+  }
+  H5Dclose(dset);
 }
 
 std::vector<double> CheckpointReader::read_all_rows(const std::string& name, int& ncols) {

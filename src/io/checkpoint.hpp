@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,11 @@ class CheckpointWriter {
   ~CheckpointWriter();
   /// \brief Owned cells of components [c0, c0+n) of `field` as a global dataset [n][Z][Y][X].
   void write_field(const std::string& name, const grid::Field<core::Real>& field, int c0, int n);
+  /// \brief The same dataset, component by component from `fill(c, block)`, which puts this
+  /// rank's owned cells of component c (x fastest, then y, z) into `block`: no copy of the
+  /// whole field (the LBM's populations, reordered as they are written).
+  void write_components(const std::string& name, int n,
+                        const std::function<void(int, double*)>& fill);
   /// \brief Rows of `ncols` values owned by this rank, concatenated over ranks in rank order into
   /// a global [rows][ncols] dataset (particles: order does not matter, ids travel in a column).
   void write_rows(const std::string& name, const std::vector<double>& local_rows, int ncols);
@@ -67,6 +73,10 @@ class CheckpointReader {
   ~CheckpointReader();
   /// \brief Fill owned cells of components [c0, c0+n) of `field` from the global dataset.
   void read_field(const std::string& name, grid::Field<core::Real>& field, int c0, int n);
+  /// \brief The same dataset, component by component into `use(c, block)` (owned cells of
+  /// component c, x fastest): one component's memory, not the field's.
+  void read_components(const std::string& name, int n,
+                       const std::function<void(int, const double*)>& use);
   /// \brief All rows of a rows-dataset on every rank (callers keep what they own); returns ncols
   /// through `ncols`. For particles prefer read_rows_share + ParticleComm::redistribute.
   std::vector<double> read_all_rows(const std::string& name, int& ncols);

@@ -27,6 +27,13 @@ hid_t select_block(hid_t fspace, const std::vector<hsize_t>& offset,
   return mspace;
 }
 
+// The dataset's path, for messages.
+std::string name_of(hid_t dset) {
+  char name[512] = "";
+  H5Iget_name(dset, name, sizeof name);
+  return name;
+}
+
 hid_t collective_transfer() {
   hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
   H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
@@ -70,9 +77,8 @@ void ensure_group(hid_t file, const std::string& path) {
   }
 }
 
-void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
-                 const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                 const double* data, hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
+hid_t create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                     hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
   auto slash = name.rfind('/');
   if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
   const int rank = static_cast<int>(global.size());
@@ -91,34 +97,67 @@ void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>
   } else if (deflate > 0) {
     throw std::logic_error("HDF5: compression without chunks for " + name);
   }
-  hid_t dset =
-      check_id(H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT),
-               "create dataset " + name);
+  hid_t dset = H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   H5Pclose(dcpl);
+  H5Sclose(fspace);
+  return check_id(dset, "create dataset " + name);
+}
+
+void write_selection(hid_t dset, const std::vector<hsize_t>& offset,
+                     const std::vector<hsize_t>& count, const void* data, hid_t type) {
+  hid_t fspace = H5Dget_space(dset);
   hid_t mspace = select_block(fspace, offset, count);
   hid_t dxpl = collective_transfer();
-  check(H5Dwrite(dset, type, mspace, fspace, dxpl, data), "write " + name);
+  const herr_t status = H5Dwrite(dset, type, mspace, fspace, dxpl, data);
   H5Pclose(dxpl);
   H5Sclose(mspace);
   H5Sclose(fspace);
+  if (status < 0) check(status, "write " + name_of(dset));
+}
+
+void read_selection(hid_t dset, const std::vector<hsize_t>& offset,
+                    const std::vector<hsize_t>& count, void* data, hid_t type) {
+  hid_t fspace = H5Dget_space(dset);
+  hid_t mspace = select_block(fspace, offset, count);
+  hid_t dxpl = collective_transfer();
+  const herr_t status = H5Dread(dset, type, mspace, fspace, dxpl, data);
+  H5Pclose(dxpl);
+  H5Sclose(mspace);
+  H5Sclose(fspace);
+  if (status < 0) check(status, "read " + name_of(dset));
+}
+
+hid_t open_dataset(hid_t file, const std::string& name) {
+  return check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
+}
+
+void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                 const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                 const double* data, hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
+  hid_t dset = create_dataset(file, name, global, type, chunk, deflate);
+  try {
+    write_selection(dset, offset, count, data, type);
+  } catch (...) {
+    H5Dclose(dset);
+    throw;
+  }
   H5Dclose(dset);
 }
 
 void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
                 const std::vector<hsize_t>& count, void* data, hid_t type) {
-  hid_t dset = check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
-  hid_t fspace = H5Dget_space(dset);
-  hid_t mspace = select_block(fspace, offset, count);
-  hid_t dxpl = collective_transfer();
-  check(H5Dread(dset, type, mspace, fspace, dxpl, data), "read " + name);
-  H5Pclose(dxpl);
-  H5Sclose(mspace);
-  H5Sclose(fspace);
+  hid_t dset = open_dataset(file, name);
+  try {
+    read_selection(dset, offset, count, data, type);
+  } catch (...) {
+    H5Dclose(dset);
+    throw;
+  }
   H5Dclose(dset);
 }
 
 std::vector<hsize_t> dims_of(hid_t file, const std::string& name) {
-  hid_t dset = check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
+  hid_t dset = open_dataset(file, name);
   hid_t space = H5Dget_space(dset);
   int rank = H5Sget_simple_extent_ndims(space);
   std::vector<hsize_t> dims(rank);

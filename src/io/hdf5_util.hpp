@@ -23,6 +23,18 @@ void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
                  const double* data, hid_t type = H5T_NATIVE_DOUBLE,
                  const std::vector<hsize_t>& chunk = {}, int deflate = 0);
+/// \brief Create a dataset of dims `global` without writing it (`chunk` and `deflate` as for
+/// write_block). The caller closes it (H5Dclose).
+hid_t create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                     hid_t type, const std::vector<hsize_t>& chunk, int deflate);
+/// \brief Collective write of this rank's block (`offset`, `count`) of an open dataset.
+void write_selection(hid_t dset, const std::vector<hsize_t>& offset,
+                     const std::vector<hsize_t>& count, const void* data, hid_t type);
+/// \brief Collective read of this rank's block (`offset`, `count`) of an open dataset.
+void read_selection(hid_t dset, const std::vector<hsize_t>& offset,
+                    const std::vector<hsize_t>& count, void* data, hid_t type);
+/// \brief Open a dataset; throws if it cannot. The caller closes it (H5Dclose).
+hid_t open_dataset(hid_t file, const std::string& name);
 /// \brief Collective read of a block of a global dataset.
 void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
                 const std::vector<hsize_t>& count, void* data, hid_t type = H5T_NATIVE_DOUBLE);

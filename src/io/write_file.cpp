@@ -80,10 +80,8 @@ void WriteFile::discard() {
   MPI_Barrier(comm_);  // no rank looks for the file before it is gone
 }
 
-void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>& global,
-                            const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                            const double* data, hid_t type, const std::vector<hsize_t>& chunk,
-                            int deflate) {
+void WriteFile::require_space_for(const std::string& name, const std::vector<hsize_t>& global,
+                                  hid_t type, const std::vector<hsize_t>& chunk) {
   // Chunks are stored whole, also where they overhang the dataset's edge (100 cells in chunks of
   // 32: 128); compressed ones take less, so this is an upper bound.
   double bytes = static_cast<double>(H5Tget_size(type));
@@ -96,10 +94,42 @@ void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>&
     discard();  // every rank is here, and the space left covers the metadata the close writes
     throw std::runtime_error(std::string(e.what()) + "; the partial file was removed");
   }
-  // A failure here (an I/O error, or space taken by another process since the check) may leave
-  // other ranks in the collective write: it is thrown on this rank alone, and the run loop's
-  // agreement aborts the job after its grace time.
+}
+
+// A failure inside a collective write (an I/O error, or space taken by another process since the
+// check) may leave other ranks in it: it is thrown on this rank alone, and the run loop's
+// agreement aborts the job after its grace time.
+void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>& global,
+                            const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                            const double* data, hid_t type, const std::vector<hsize_t>& chunk,
+                            int deflate) {
+  require_space_for(name, global, type, chunk);
   h5::write_block(file_, name, global, offset, count, data, type, chunk, deflate);
+}
+
+void WriteFile::write_slabs(const std::string& name, const std::vector<hsize_t>& global,
+                            const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                            const std::function<void(hsize_t, double*)>& fill) {
+  if (global.empty() || offset[0] != 0 || count[0] != global[0])
+    throw std::logic_error("WriteFile::write_slabs: every rank writes every slab of " + name);
+  require_space_for(name, global, H5T_NATIVE_DOUBLE, {});
+  hsize_t per_slab = 1;
+  for (std::size_t d = 1; d < count.size(); ++d) per_slab *= count[d];
+  std::vector<double> slab(per_slab);
+  std::vector<hsize_t> slab_offset = offset, slab_count = count;
+  slab_count[0] = 1;
+  hid_t dset = h5::create_dataset(file_, name, global, H5T_NATIVE_DOUBLE, {}, 0);
+  try {
+    for (hsize_t s = 0; s < global[0]; ++s) {
+      fill(s, slab.data());
+      slab_offset[0] = s;
+      h5::write_selection(dset, slab_offset, slab_count, slab.data(), H5T_NATIVE_DOUBLE);
+    }
+  } catch (...) {
+    H5Dclose(dset);
+    throw;
+  }
+  H5Dclose(dset);
 }
 
 double WriteFile::close() {

@@ -14,6 +14,7 @@
 #include <mpi.h>
 
 #include <exception>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,12 +51,23 @@ class WriteFile {
                    const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
                    const double* data, hid_t type = H5T_NATIVE_DOUBLE,
                    const std::vector<hsize_t>& chunk = {}, int deflate = 0);
+  /// \brief The same for a dataset written slab by slab along its first dimension, every rank
+  /// writing every slab (`offset[0]` = 0, `count[0]` = `global[0]`): `fill(s, slab)` puts this
+  /// rank's block of slab s (the product of count[1..] values, C order) into one buffer reused
+  /// for every slab. The memory taken is one slab's, not the dataset's (a checkpoint of a large
+  /// grid would otherwise copy the populations whole).
+  void write_slabs(const std::string& name, const std::vector<hsize_t>& global,
+                   const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                   const std::function<void(hsize_t, double*)>& fill);
   /// \brief Collective close; if it failed on any rank the file is removed and every rank
   /// throws. Returns the file's size in bytes (every rank).
   double close();
 
  private:
   void discard();  // collective: close if open; rank 0 removes the file
+  // require_free_space for dataset `name`; if short, discard and throw (every rank).
+  void require_space_for(const std::string& name, const std::vector<hsize_t>& global, hid_t type,
+                         const std::vector<hsize_t>& chunk);
 
   std::string path_, what_;
   MPI_Comm comm_;

@@ -168,21 +168,6 @@ void LbmSolver::post_view(const double* post[32]) const {
     post[q] = streamed_ ? f_.component(q) + offset_[q] : f_.component(opp_[q]);
 }
 
-grid::Field<Real> LbmSolver::natural_populations() const {
-  const Index3 n = decomp_.local_cells();
-  grid::Field<Real> out(n, nq_, 1);
-  const double* post[32];
-  post_view(post);
-  for (int q = 0; q < nq_; ++q)
-    for (int k = 0; k < n.z; ++k)
-      for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) {
-          const std::ptrdiff_t c = f_.index(i, j, k);
-          out(i, j, k, q) = solid_[c] ? w_[q] : post[q][c];
-        }
-  return out;
-}
-
 void LbmSolver::update_macroscopic() {
   const grid::Box all{{0, 0, 0}, decomp_.local_cells()};
   update_macroscopic(std::span<const grid::Box>(&all, 1));
@@ -437,8 +422,19 @@ void LbmSolver::poison_for_test() {
 }
 
 void LbmSolver::write_checkpoint(io::CheckpointWriter& w) const {
-  // Natural order on either parity, so a restart onto any rank count continues bitwise.
-  w.write_field("lbm_populations", natural_populations(), 0, nq_);
+  // Natural order on either parity, so a restart onto any rank count continues bitwise; one
+  // direction at a time, so the checkpoint takes one direction's memory, not a second copy.
+  const Index3 n = decomp_.local_cells();
+  const double* post[32];
+  post_view(post);
+  w.write_components("lbm_populations", nq_, [&](int q, double* block) {
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) {
+          const std::ptrdiff_t c = f_.index(i, j, k);
+          *block++ = solid_[c] ? w_[q] : post[q][c];
+        }
+  });
   w.write_attribute("lbm_step", static_cast<std::int64_t>(step_));
   w.write_attribute("lbm_lattice", params_.lattice);
 }
@@ -451,12 +447,11 @@ void LbmSolver::read_checkpoint(io::CheckpointReader& r) {
                     "{}",
                     lattice, params_.lattice));
   const Index3 n = decomp_.local_cells();
-  grid::Field<Real> natural(n, nq_, 1);
-  r.read_field("lbm_populations", natural, 0, nq_);
-  for (int q = 0; q < nq_; ++q)
+  r.read_components("lbm_populations", nq_, [&](int q, const double* block) {
     for (int k = 0; k < n.z; ++k)
       for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) f_(i, j, k, opp_[q]) = natural(i, j, k, q);
+        for (int i = 0; i < n.x; ++i) f_(i, j, k, opp_[q]) = *block++;
+  });
   streamed_ = false;
   step_ = r.read_attribute_int("lbm_step");
   update_macroscopic();

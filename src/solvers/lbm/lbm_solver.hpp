@@ -242,8 +242,6 @@ class LbmSolver {
                      const char* if_false, const char* true_is, const char* false_is) const;
   /// \brief post[q][c] is the post-collision population q of cell c in either state.
   void post_view(const double* post[32]) const;
-  /// \brief The post-collision populations in natural order (solid cells at rest, w_q).
-  grid::Field<Real> natural_populations() const;
 
   const grid::Decomposition& decomp_;
   LbmParams params_;
