@@ -168,18 +168,12 @@ void CheckpointReader::read_components(const std::string& name, int n,
   field_block(decomp_, n, global, offset, count);
   count[0] = 1;
   std::vector<double> block(count[1] * count[2] * count[3]);
-  hid_t dset = h5::open_dataset(file_, ds);
-  try {
-    for (int c = 0; c < n; ++c) {
-      offset[0] = hsize_t(c);
-      h5::read_selection(dset, offset, count, block.data(), H5T_NATIVE_DOUBLE);
-      use(c, block.data());
-    }
-  } catch (...) {
-    H5Dclose(dset);
-    throw;
+  const auto dset = h5::open_dataset(file_, ds);
+  for (int c = 0; c < n; ++c) {
+    offset[0] = hsize_t(c);
+    h5::read_selection(dset, offset, count, block.data(), H5T_NATIVE_DOUBLE);
+    use(c, block.data());
   }
-  H5Dclose(dset);
 }
 
 std::vector<double> CheckpointReader::read_all_rows(const std::string& name, int& ncols) {

@@ -77,8 +77,8 @@ void ensure_group(hid_t file, const std::string& path) {
   }
 }
 
-hid_t create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
-                     hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
+Dataset create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                       hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
   auto slash = name.rfind('/');
   if (slash != std::string::npos && slash > 0) ensure_group(file, name.substr(0, slash));
   const int rank = static_cast<int>(global.size());
@@ -100,70 +100,60 @@ hid_t create_dataset(hid_t file, const std::string& name, const std::vector<hsiz
   hid_t dset = H5Dcreate2(file, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   H5Pclose(dcpl);
   H5Sclose(fspace);
-  return check_id(dset, "create dataset " + name);
+  return Dataset(check_id(dset, "create dataset " + name));
 }
 
-void write_selection(hid_t dset, const std::vector<hsize_t>& offset,
+Dataset open_dataset(hid_t file, const std::string& name) {
+  return Dataset(check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name));
+}
+
+// Collective transfer of this rank's block of `dset`: H5Dwrite or H5Dread.
+template <class Transfer>
+void transfer_selection(const Dataset& dset, const std::vector<hsize_t>& offset,
+                        const std::vector<hsize_t>& count, const char* verb, Transfer transfer) {
+  hid_t fspace = H5Dget_space(dset.id());
+  hid_t mspace = select_block(fspace, offset, count);
+  hid_t dxpl = collective_transfer();
+  const herr_t status = transfer(mspace, fspace, dxpl);
+  H5Pclose(dxpl);
+  H5Sclose(mspace);
+  H5Sclose(fspace);
+  if (status < 0) check(status, std::string(verb) + " " + name_of(dset.id()));
+}
+
+void write_selection(const Dataset& dset, const std::vector<hsize_t>& offset,
                      const std::vector<hsize_t>& count, const void* data, hid_t type) {
-  hid_t fspace = H5Dget_space(dset);
-  hid_t mspace = select_block(fspace, offset, count);
-  hid_t dxpl = collective_transfer();
-  const herr_t status = H5Dwrite(dset, type, mspace, fspace, dxpl, data);
-  H5Pclose(dxpl);
-  H5Sclose(mspace);
-  H5Sclose(fspace);
-  if (status < 0) check(status, "write " + name_of(dset));
+  transfer_selection(dset, offset, count, "write", [&](hid_t mspace, hid_t fspace, hid_t dxpl) {
+    return H5Dwrite(dset.id(), type, mspace, fspace, dxpl, data);
+  });
 }
 
-void read_selection(hid_t dset, const std::vector<hsize_t>& offset,
+void read_selection(const Dataset& dset, const std::vector<hsize_t>& offset,
                     const std::vector<hsize_t>& count, void* data, hid_t type) {
-  hid_t fspace = H5Dget_space(dset);
-  hid_t mspace = select_block(fspace, offset, count);
-  hid_t dxpl = collective_transfer();
-  const herr_t status = H5Dread(dset, type, mspace, fspace, dxpl, data);
-  H5Pclose(dxpl);
-  H5Sclose(mspace);
-  H5Sclose(fspace);
-  if (status < 0) check(status, "read " + name_of(dset));
-}
-
-hid_t open_dataset(hid_t file, const std::string& name) {
-  return check_id(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "open dataset " + name);
+  transfer_selection(dset, offset, count, "read", [&](hid_t mspace, hid_t fspace, hid_t dxpl) {
+    return H5Dread(dset.id(), type, mspace, fspace, dxpl, data);
+  });
 }
 
 void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
                  const double* data, hid_t type, const std::vector<hsize_t>& chunk, int deflate) {
-  hid_t dset = create_dataset(file, name, global, type, chunk, deflate);
-  try {
-    write_selection(dset, offset, count, data, type);
-  } catch (...) {
-    H5Dclose(dset);
-    throw;
-  }
-  H5Dclose(dset);
+  write_selection(create_dataset(file, name, global, type, chunk, deflate), offset, count, data,
+                  type);
 }
 
 void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
                 const std::vector<hsize_t>& count, void* data, hid_t type) {
-  hid_t dset = open_dataset(file, name);
-  try {
-    read_selection(dset, offset, count, data, type);
-  } catch (...) {
-    H5Dclose(dset);
-    throw;
-  }
-  H5Dclose(dset);
+  read_selection(open_dataset(file, name), offset, count, data, type);
 }
 
 std::vector<hsize_t> dims_of(hid_t file, const std::string& name) {
-  hid_t dset = open_dataset(file, name);
-  hid_t space = H5Dget_space(dset);
+  const Dataset dset = open_dataset(file, name);
+  hid_t space = H5Dget_space(dset.id());
   int rank = H5Sget_simple_extent_ndims(space);
   std::vector<hsize_t> dims(rank);
   H5Sget_simple_extent_dims(space, dims.data(), nullptr);
   H5Sclose(space);
-  H5Dclose(dset);
   return dims;
 }
 

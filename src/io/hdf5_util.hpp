@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/agreement.hpp"
+
 namespace biota::io::h5 {
 
 /// \brief Create (truncate) a file for collective parallel access.
@@ -23,18 +25,34 @@ void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
                  const double* data, hid_t type = H5T_NATIVE_DOUBLE,
                  const std::vector<hsize_t>& chunk = {}, int deflate = 0);
+/// \brief An open dataset, closed when it goes out of scope, except while an exception unwinds
+/// (H5Dclose may be collective and the other ranks may not come: leaked, as the file is).
+class Dataset {
+ public:
+  explicit Dataset(hid_t id) : id_(id) {}
+  ~Dataset() {
+    if (!unwind_.unwinding()) H5Dclose(id_);
+  }
+  Dataset(const Dataset&) = delete;
+  Dataset& operator=(const Dataset&) = delete;
+  hid_t id() const { return id_; }
+
+ private:
+  hid_t id_;
+  core::UnwindGuard unwind_;
+};
 /// \brief Create a dataset of dims `global` without writing it (`chunk` and `deflate` as for
-/// write_block). The caller closes it (H5Dclose).
-hid_t create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
-                     hid_t type, const std::vector<hsize_t>& chunk, int deflate);
+/// write_block).
+Dataset create_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
+                       hid_t type, const std::vector<hsize_t>& chunk, int deflate);
+/// \brief Open a dataset; throws if it cannot.
+Dataset open_dataset(hid_t file, const std::string& name);
 /// \brief Collective write of this rank's block (`offset`, `count`) of an open dataset.
-void write_selection(hid_t dset, const std::vector<hsize_t>& offset,
+void write_selection(const Dataset& dset, const std::vector<hsize_t>& offset,
                      const std::vector<hsize_t>& count, const void* data, hid_t type);
 /// \brief Collective read of this rank's block (`offset`, `count`) of an open dataset.
-void read_selection(hid_t dset, const std::vector<hsize_t>& offset,
+void read_selection(const Dataset& dset, const std::vector<hsize_t>& offset,
                     const std::vector<hsize_t>& count, void* data, hid_t type);
-/// \brief Open a dataset; throws if it cannot. The caller closes it (H5Dclose).
-hid_t open_dataset(hid_t file, const std::string& name);
 /// \brief Collective read of a block of a global dataset.
 void read_block(hid_t file, const std::string& name, const std::vector<hsize_t>& offset,
                 const std::vector<hsize_t>& count, void* data, hid_t type = H5T_NATIVE_DOUBLE);

@@ -118,18 +118,12 @@ void WriteFile::write_slabs(const std::string& name, const std::vector<hsize_t>&
   std::vector<double> slab(per_slab);
   std::vector<hsize_t> slab_offset = offset, slab_count = count;
   slab_count[0] = 1;
-  hid_t dset = h5::create_dataset(file_, name, global, H5T_NATIVE_DOUBLE, {}, 0);
-  try {
-    for (hsize_t s = 0; s < global[0]; ++s) {
-      fill(s, slab.data());
-      slab_offset[0] = s;
-      h5::write_selection(dset, slab_offset, slab_count, slab.data(), H5T_NATIVE_DOUBLE);
-    }
-  } catch (...) {
-    H5Dclose(dset);
-    throw;
+  const auto dset = h5::create_dataset(file_, name, global, H5T_NATIVE_DOUBLE, {}, 0);
+  for (hsize_t s = 0; s < global[0]; ++s) {
+    fill(s, slab.data());
+    slab_offset[0] = s;
+    h5::write_selection(dset, slab_offset, slab_count, slab.data(), H5T_NATIVE_DOUBLE);
   }
-  H5Dclose(dset);
 }
 
 double WriteFile::close() {
