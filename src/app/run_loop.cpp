@@ -328,7 +328,13 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
       if (core::fault_injected("late_signal", rank, s)) g_signal.store(SIGTERM);
       if (any_signal) {
         stop_signal = any_signal;
-        if (root) fmt::print("received signal {}: writing a checkpoint and stopping\n", any_signal);
+        if (root)
+          fmt::print("received signal {}: writing a checkpoint and stopping{}\n", any_signal,
+                     any_signal == SIGUSR1
+                         ? ""
+                         : " (Ctrl-C or SIGTERM to mpirun leaves the ranks about 1 s before "
+                           "SIGKILL, too short for a large checkpoint; kill -USR1 <mpirun's "
+                           "pid> waits for it: docs/getting-started.md)");
         checkpoint("signal");
         break;
       }
