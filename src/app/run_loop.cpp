@@ -189,7 +189,6 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   MPI_Comm_rank(comm, &rank);
   require_run_length(cfg);  // before the set-up, which may take a while
   const std::string out_dir = cfg.get_string("output.dir");
-  const std::string ckpt_dir = checkpoint_dir(cfg);
   const std::string name = cfg.get_string("scenario");
 
   // Every phase below runs under the agreement: an error on one rank reaches all ranks there
@@ -215,11 +214,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   }
   const double dt = scenario->dt();
   const LoopSettings loop = loop_settings(cfg, dt);
-  const long long last_step = loop.last_step, out_every = loop.out_every,
-                  ckpt_every = loop.ckpt_every, progress_every = loop.progress_every,
-                  health_every = loop.health_every;
   ensure_dir(comm, cfg, "output.dir", out_dir, true);
-  ensure_dir(comm, cfg, "checkpoint.dir", ckpt_dir, false);
+  ensure_dir(comm, cfg, "checkpoint.dir", loop.checkpoint_dir, false);
 
   std::string last_checkpoint = restart_path.empty() ? "(none)" : restart_path;
   agreement.set_note("last good checkpoint: " + last_checkpoint);
@@ -257,7 +253,8 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
         fmt::print("checkpoint ({}) written: {} (at this step already)\n", why, last_checkpoint);
       return;
     }
-    const std::string path = fmt::format("{}/{}_{:08d}.h5", ckpt_dir, name, scenario->step_index());
+    const std::string path =
+        fmt::format("{}/{}_{:08d}.h5", loop.checkpoint_dir, name, scenario->step_index());
     const double t0 = MPI_Wtime();
     phase("checkpoint", [&] { scenario->write_checkpoint(path); });
     std::error_code ec;
@@ -272,22 +269,23 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
   const double wall0 = MPI_Wtime();
   const long long first_step = scenario->step_index();
   if (root) {
-    if (first_step > last_step)  // a restart past the deck's end: say so rather than run 0 steps
+    // A restart past the deck's end: say so rather than run 0 steps.
+    if (first_step > loop.last_step)
       fmt::print(
           "nothing to run: the restart is at step {} (t = {:.6g} s), past run.end_time = "
           "{:.6g} s (step {}); raise run.end_time to go on\n",
-          first_step, first_step * dt, last_step * dt, last_step);
+          first_step, first_step * dt, loop.last_step * dt, loop.last_step);
     else
       fmt::print("running '{}' from step {} to step {} (dt = {:.6g} s, end time {:.6g} s)\n", name,
-                 first_step, last_step, dt, last_step * dt);
-    fmt::print("output in {}, checkpoints in {}\n", out_dir, ckpt_dir);
+                 first_step, loop.last_step, dt, loop.last_step * dt);
+    fmt::print("output in {}, checkpoints in {}\n", out_dir, loop.checkpoint_dir);
   }
   std::string table, traffic;
   try {
-    if (restart_path.empty() || out_every > 0) output();
+    if (restart_path.empty() || loop.out_every > 0) output();
     warn_unused_keys(cfg, root);  // after set-up and the first output have read their keys
     int stop_signal = 0;          // reduced over ranks: every rank takes the same decisions from it
-    while (scenario->step_index() < last_step) {
+    while (scenario->step_index() < loop.last_step) {
       // The step's agreement carries the signal flag: one small allreduce per step, as before.
       int any_signal = 0;
       agreement.run(
@@ -304,22 +302,23 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
           },
           0);
       const long long s = scenario->step_index();
-      if (s % health_every == 0 || s == last_step)
+      if (s % loop.health_every == 0 || s == loop.last_step)
         agreement.run([&] {
           if (core::fault_injected("health", rank, s)) scenario->poison_for_test();
           scenario->check_health();
         });
-      if (s % progress_every == 0 || s == last_step) {
+      if (s % loop.progress_every == 0 || s == loop.last_step) {
         std::string extra;
         phase("progress", [&] { extra = scenario->progress(); });
         const double elapsed = MPI_Wtime() - wall0;
-        const double eta = elapsed / double(s - first_step) * double(last_step - s);
+        const double eta = elapsed / double(s - first_step) * double(loop.last_step - s);
         if (root)
           fmt::print("step {:>8}/{}  t = {:10.4f} s  {}  wall {:7.1f} s  ETA {:7.1f} s\n", s,
-                     last_step, scenario->time(), extra, elapsed, eta);
+                     loop.last_step, scenario->time(), extra, elapsed, eta);
       }
-      if ((out_every > 0 && s % out_every == 0) || s == last_step) output();
-      if (ckpt_every > 0 && s % ckpt_every == 0 && s != last_step) checkpoint("interval");
+      if ((loop.out_every > 0 && s % loop.out_every == 0) || s == loop.last_step) output();
+      if (loop.ckpt_every > 0 && s % loop.ckpt_every == 0 && s != loop.last_step)
+        checkpoint("interval");
       // A batch scheduler sends SIGTERM before killing the job: checkpoint and leave cleanly.
       // Test hook: a real SIGTERM raised on one rank at one step (the fault suite).
       if (core::fault_injected("sigterm", rank, s)) std::raise(SIGTERM);
@@ -340,7 +339,7 @@ int run_scenario(MPI_Comm comm, const core::Config& cfg, const std::string& rest
       }
     }
     // Decided from the reduced flag: a rank's own flag may have been set after the last agreement.
-    if (!stop_signal && scenario->step_index() == last_step) checkpoint("end of run");
+    if (!stop_signal && scenario->step_index() == loop.last_step) checkpoint("end of run");
     const double wall = MPI_Wtime() - wall0;
     phase("end", [&] {
       table = timers.report(comm, wall);

@@ -56,8 +56,7 @@ void CheckpointWriter::write_components(const std::string& name, int n,
                                         const std::function<void(int, double*)>& fill) {
   std::vector<hsize_t> global, offset, count;
   field_block(decomp_, n, global, offset, count);
-  file_->write_slabs("/fields/" + name, global, offset, count,
-                     [&](hsize_t c, double* block) { fill(static_cast<int>(c), block); });
+  file_->write_slabs("/fields/" + name, global, offset, count, fill);
 }
 
 void CheckpointWriter::write_rows(const std::string& name, const std::vector<double>& local_rows,

@@ -109,7 +109,7 @@ void WriteFile::write_block(const std::string& name, const std::vector<hsize_t>&
 
 void WriteFile::write_slabs(const std::string& name, const std::vector<hsize_t>& global,
                             const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                            const std::function<void(hsize_t, double*)>& fill) {
+                            const std::function<void(int, double*)>& fill) {
   if (global.empty() || offset[0] != 0 || count[0] != global[0])
     throw std::logic_error("WriteFile::write_slabs: every rank writes every slab of " + name);
   require_space_for(name, global, H5T_NATIVE_DOUBLE, {});
@@ -120,7 +120,7 @@ void WriteFile::write_slabs(const std::string& name, const std::vector<hsize_t>&
   slab_count[0] = 1;
   const auto dset = h5::create_dataset(file_, name, global, H5T_NATIVE_DOUBLE, {}, 0);
   for (hsize_t s = 0; s < global[0]; ++s) {
-    fill(s, slab.data());
+    fill(static_cast<int>(s), slab.data());
     slab_offset[0] = s;
     h5::write_selection(dset, slab_offset, slab_count, slab.data(), H5T_NATIVE_DOUBLE);
   }

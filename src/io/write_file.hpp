@@ -58,7 +58,7 @@ class WriteFile {
   /// grid would otherwise copy the populations whole).
   void write_slabs(const std::string& name, const std::vector<hsize_t>& global,
                    const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                   const std::function<void(hsize_t, double*)>& fill);
+                   const std::function<void(int, double*)>& fill);
   /// \brief Collective close; if it failed on any rank the file is removed and every rank
   /// throws. Returns the file's size in bytes (every rank).
   double close();

@@ -8,6 +8,8 @@ import statistics
 import subprocess
 import sys
 
+from smoke_report import finish
+
 biota, mpiexec = sys.argv[1], sys.argv[2]
 cmd = [mpiexec, "-n", "2", biota, "bench", "flock", "--boids", "5000", "--steps", "2",
        "--rounds", "2"]
@@ -39,8 +41,4 @@ least = subprocess.run([mpiexec, "-n", "3", "--oversubscribe", biota, "bench", "
                         "--steps", "1"], capture_output=True, text=True, timeout=240)
 if least.returncode != 0 or not re.search(r"^\s+39\s+9\s+.*\(3 ranks\)$", least.stdout, re.M):
     failures.append(f"--boids 39 on 3 ranks: exit {least.returncode}: {least.stderr.strip()[-400:]}")
-if failures:
-    print(out)
-    print("\n".join("FAIL: " + f for f in failures))
-    sys.exit(1)
-print(f"bench flock smoke: efficiencies {eff}")
+finish(out, failures, f"bench flock smoke: efficiencies {eff}")

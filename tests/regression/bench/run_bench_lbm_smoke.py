@@ -7,6 +7,8 @@ import re
 import subprocess
 import sys
 
+from smoke_report import finish
+
 biota, mpiexec = sys.argv[1], sys.argv[2]
 cmd = [mpiexec, "-n", "2", biota, "bench", "lbm", "--size", "16", "--steps", "4", "--rounds", "2",
        "--no-peer"]
@@ -35,8 +37,4 @@ for coll in ("bgk", "trt"):
         failures.append(f"no D3Q15 / D3Q19 {coll} line")
 if "peer: not run (--no-peer)" not in out:
     failures.append("no line saying the peer was not run")
-if failures:
-    print(out)
-    print("\n".join("FAIL: " + f for f in failures))
-    sys.exit(1)
-print(f"bench lbm smoke: {len(cases)} cases, 2 rounds")
+finish(out, failures, f"bench lbm smoke: {len(cases)} cases, 2 rounds")

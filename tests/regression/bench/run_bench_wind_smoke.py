@@ -8,6 +8,8 @@ import re
 import subprocess
 import sys
 
+from smoke_report import finish
+
 bench, mpiexec = sys.argv[1], sys.argv[2]
 run = subprocess.run([mpiexec, "-n", "2", bench, "--size", "16", "--steps", "1", "--compare",
                       "--sweep", "8,16"], capture_output=True, text=True, timeout=240)
@@ -25,8 +27,4 @@ for name in names:
 sweep_rows = re.findall(r"^\s+(8|16)\s+\d+\s+[\d.]+\s+[\d.]+\s+[\d.e+-]+$", out, re.M)
 if len(sweep_rows) != 2 * len(names):
     failures.append(f"{len(sweep_rows)} sweep rows, expected {2 * len(names)}")
-if failures:
-    print(out)
-    print("\n".join("FAIL: " + f for f in failures))
-    sys.exit(1)
-print(f"bench wind smoke: {len(names)} preconditioners, {len(sweep_rows)} sweep rows")
+finish(out, failures, f"bench wind smoke: {len(names)} preconditioners, {len(sweep_rows)} sweep rows")
