@@ -173,8 +173,9 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   p.inlet.speed = cfg.get_real("lbm.inlet.speed");
   p.inlet.pulse_amplitude = cfg.get_real("lbm.inlet.pulse_amplitude");
   if (p.inlet.face >= 0) {
-    p.inlet.center[0] = cfg.get_real_list("lbm.inlet.center")[0];
-    p.inlet.center[1] = cfg.get_real_list("lbm.inlet.center")[1];
+    const auto& inlet_center = cfg.get_real_list("lbm.inlet.center");
+    p.inlet.center[0] = inlet_center[0];
+    p.inlet.center[1] = inlet_center[1];
     p.inlet.radius = cfg.get_real("lbm.inlet.radius");
     p.inlet.parabolic = cfg.get_string("lbm.inlet.profile") == "parabolic";
     p.inlet.ramp_time = cfg.get_real("lbm.inlet.ramp_time");
@@ -186,8 +187,9 @@ LbmParams LbmParams::from_config(const core::Config& cfg) {
   if (p.outlet.face >= 0) {
     p.outlet.type = cfg.get_string("lbm.outlet.type") == "pressure" ? FaceType::kPressure
                                                                     : FaceType::kZeroGradient;
-    p.outlet.center[0] = cfg.get_real_list("lbm.outlet.center")[0];
-    p.outlet.center[1] = cfg.get_real_list("lbm.outlet.center")[1];
+    const auto& outlet_center = cfg.get_real_list("lbm.outlet.center");
+    p.outlet.center[0] = outlet_center[0];
+    p.outlet.center[1] = outlet_center[1];
     p.outlet.r_min = cfg.get_real("lbm.outlet.r_min");
     p.outlet.r_max = cfg.get_real("lbm.outlet.r_max");
   }
