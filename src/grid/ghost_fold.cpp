@@ -32,7 +32,9 @@ GhostFold::GhostFold(const Decomposition& decomp, Field<core::Real>& field, Face
       if (a != axis) layer *= field.cells()[a] + 2 * g;
     for (int side = 0; side < 2; ++side) {
       // I send my ghosts at side s; the neighbour there receives them into its owned layer at
-      // its side 1-s, so what I receive at side s are the neighbour's ghosts of side 1-s.
+      // its side 1-s, so what I receive at side s are the neighbour's ghosts of side 1-s. A side
+      // without a neighbour has no buffers (its requests carry 0 values to MPI_PROC_NULL).
+      if (decomp.neighbor(axis, side) == MPI_PROC_NULL) continue;
       p.send[side].resize(layer * faces_[axis][side].size());
       p.recv[side].resize(layer * faces_[axis][1 - side].size());
     }

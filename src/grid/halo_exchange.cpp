@@ -27,6 +27,17 @@ void HaloExchange::pass_range(int pass_axis, int a, int& lo, int& hi) const {
   }
 }
 
+long long HaloExchange::slab_cells(int axis) const {
+  long long cells = field_->ghosts();
+  for (int a = 0; a < 3; ++a) {
+    if (a == axis) continue;
+    int lo, hi;
+    pass_range(axis, a, lo, hi);
+    cells *= (hi - lo);
+  }
+  return cells;
+}
+
 template <class F>
 void HaloExchange::for_slab(int axis, int start, const std::vector<int>& comps, F&& f) {
   int lo[3], hi[3];
@@ -66,23 +77,16 @@ HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field
     : decomp_(decomp), field_(&field), faces_(std::move(faces)) {
   check_halo_width(decomp, field.ghosts());
   for (int c = 0; c < field.ncomp(); ++c) all_components_.push_back(c);
-  const int g = field.ghosts();
   for (int axis = 0; axis < 3; ++axis) {
     Pass& p = passes_[axis];
-    long long layer = g;
-    for (int a = 0; a < 3; ++a) {
-      if (a == axis) continue;
-      int lo, hi;
-      pass_range(axis, a, lo, hi);
-      layer *= (hi - lo);
-    }
+    const long long layer = slab_cells(axis);
     for (int side = 0; side < 2; ++side) {
       // Ghosts at my side `side` are filled from the neighbour there with the components listed
-      // for that side; what I send across side s feeds the neighbour's ghosts at side 1-s.
+      // for that side; what I send across side s feeds the neighbour's ghosts at side 1-s. A side
+      // without a neighbour has no buffers (its requests carry 0 values to MPI_PROC_NULL).
+      if (decomp.neighbor(axis, side) == MPI_PROC_NULL) continue;
       p.recv[side].resize(layer * faces_[axis][side].size());
       p.send[side].resize(layer * faces_[axis][1 - side].size());
-      p.rsend[side].resize(layer * field.ncomp());
-      p.rrecv[side].resize(layer * field.ncomp());
     }
     const int tag = 100 + axis * 4;
     MPI_Comm comm = decomp.comm();
@@ -94,6 +98,25 @@ HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field
                     tag + (1 - side), comm, &p.requests[side]);
       MPI_Send_init(p.send[side].data(), static_cast<int>(p.send[side].size()), MPI_DOUBLE, nb,
                     tag + side, comm, &p.requests[2 + side]);
+    }
+  }
+}
+
+void HaloExchange::init_reverse() {
+  // Made on the first reverse_sum: most fields never fold their ghosts back, and these buffers
+  // carry every component (an LBM's 19 populations, not the 5 that cross a face).
+  reverse_ready_ = true;
+  MPI_Comm comm = decomp_.comm();
+  for (int axis = 0; axis < 3; ++axis) {
+    Pass& p = passes_[axis];
+    const long long layer = slab_cells(axis);
+    const int tag = 100 + axis * 4;
+    for (int side = 0; side < 2; ++side) {
+      const int nb = decomp_.neighbor(axis, side);
+      if (nb != MPI_PROC_NULL) {
+        p.rsend[side].resize(layer * field_->ncomp());
+        p.rrecv[side].resize(layer * field_->ncomp());
+      }
       MPI_Recv_init(p.rrecv[side].data(), static_cast<int>(p.rrecv[side].size()), MPI_DOUBLE, nb,
                     tag + 2 + (1 - side), comm, &p.rrequests[side]);
       MPI_Send_init(p.rsend[side].data(), static_cast<int>(p.rsend[side].size()), MPI_DOUBLE, nb,
@@ -152,6 +175,7 @@ void HaloExchange::end() {
 }
 
 void HaloExchange::reverse_sum() {
+  if (!reverse_ready_) init_reverse();
   const int g = field_->ghosts();
   const std::vector<int>& all = all_components_;
   for (int axis = 2; axis >= 0; --axis) {

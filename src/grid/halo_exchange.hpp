@@ -74,11 +74,14 @@ class HaloExchange {
   };
   // Range of local indices a pass covers on axis a (interior for later axes, ghosts for earlier).
   void pass_range(int pass_axis, int a, int& lo, int& hi) const;
+  // Cells of the slab a pass on `axis` carries per side (ghosts x the pass_range of the others).
+  long long slab_cells(int axis) const;
   // Visit the slab of `width` layers starting at local index `start` on `axis`, in pass order.
   template <class F>
   void for_slab(int axis, int start, const std::vector<int>& comps, F&& f);
   void start_pass(int axis);
   void finish_pass(int axis);
+  void init_reverse();
 
   const Decomposition& decomp_;
   Field<core::Real>* field_;
@@ -86,6 +89,7 @@ class HaloExchange {
   std::vector<int> all_components_;  ///< 0..ncomp-1, what reverse_sum carries
   std::array<Pass, 3> passes_;
   int overlap_axis_ = -1;
+  bool reverse_ready_ = false;  ///< reverse_sum's buffers and requests exist
   core::CommCounter sent_;
 };
 

@@ -37,17 +37,17 @@ void OutputStep::add_scalar(const std::string& name, std::vector<double> values,
                             const std::string& unit) {
   if (static_cast<long long>(values.size()) != decomp_.local_cells().product())
     throw std::logic_error("OutputStep::add_scalar: wrong size for " + name);
-  arrays_.push_back({name, {std::move(values), 1, unit}});
+  arrays_.emplace_back(name, Array{select(std::move(values), 1), 1, unit});
 }
 
 void OutputStep::add_vector(const std::string& name, std::vector<double> values,
                             const std::string& unit) {
   if (static_cast<long long>(values.size()) != 3 * decomp_.local_cells().product())
     throw std::logic_error("OutputStep::add_vector: wrong size for " + name);
-  arrays_.push_back({name, {std::move(values), 3, unit}});
+  arrays_.emplace_back(name, Array{select(std::move(values), 3), 3, unit});
 }
 
-std::vector<double> OutputStep::select(const std::vector<double>& local, int ncomp) const {
+std::vector<double> OutputStep::select(std::vector<double> local, int ncomp) const {
   const auto& g = decomp_.global_cells();
   const auto& box = decomp_.local_box();
   if (layout_.stride == 1 && layout_.resolved(g).extent() == g) return local;
@@ -85,7 +85,6 @@ void OutputStep::write() {
   const bool have_cells = oe.x > 0 && oe.y > 0 && oe.z > 0;
   const core::Vec3 origin = layout_.out_origin(g, dx_, origin_);
   const double spacing = dx_ * layout_.stride;
-  for (auto& [name, a] : arrays_) a.data = select(a.data, a.ncomp);
 
   // --- HDF5: one file, global datasets [Z][Y][X](,3), collective hyperslab writes; chunks and
   // filters depend on the written grid only, so the file content is rank-independent.
@@ -145,12 +144,13 @@ void OutputStep::write() {
     image->SetExtent(ob.lo.x, ob.hi.x, ob.lo.y, ob.hi.y, ob.lo.z, ob.hi.z);
     image->SetOrigin(origin.x, origin.y, origin.z);
     image->SetSpacing(spacing, spacing, spacing);
-    for (const auto& [name, a] : arrays_) {
+    for (auto& [name, a] : arrays_) {
       vtkNew<vtkDoubleArray> arr;
       arr->SetName(name.c_str());
       arr->SetNumberOfComponents(a.ncomp);
-      arr->SetNumberOfTuples(static_cast<vtkIdType>(a.data.size() / a.ncomp));
-      std::copy(a.data.begin(), a.data.end(), arr->GetPointer(0));
+      // The writer reads the array in place (save = 1: VTK neither copies nor frees it), so an
+      // output step holds its arrays once, not twice.
+      arr->SetArray(a.data.data(), static_cast<vtkIdType>(a.data.size()), 1);
       image->GetCellData()->AddArray(arr);
     }
     vtkNew<vtkXMLImageDataWriter> writer;

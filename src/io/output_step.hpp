@@ -39,8 +39,10 @@ class OutputStep {
     int ncomp;
     std::string unit;
   };
-  /// \brief The selected cells of a local owned-cell array (x fastest, `ncomp` interleaved).
-  std::vector<double> select(const std::vector<double>& local, int ncomp) const;
+  /// \brief The selected cells of a local owned-cell array (x fastest, `ncomp` interleaved);
+  /// `local` itself when every cell is selected. Applied as an array is added, so that a step
+  /// with output.stride or output.region keeps only the selection.
+  std::vector<double> select(std::vector<double> local, int ncomp) const;
   /// \brief Rank 0: the .pvti of the pieces, the .pvd entry and the .xmf of the HDF5 file.
   void write_indexes(const std::string& stem, const core::Index3& n, const core::Vec3& origin,
                      double spacing) const;

@@ -95,11 +95,6 @@ void write_surface_vtp(const SurfaceData& t, const std::string& path) {
   write_vtk_checked(*writer, path);
 }
 
-// Rows [0, rows) of a column-major-by-point array with `ncomp` values per point.
-std::vector<double> head(const std::vector<double>& v, std::size_t rows, int ncomp) {
-  return {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rows * ncomp)};
-}
-
 }  // namespace
 
 ParticleOutput::ParticleOutput(MPI_Comm comm, std::string dir, std::string prefix, long long step,
@@ -142,12 +137,13 @@ void ParticleOutput::write(const ParticleData& d) {
     h5_file.write_block(name, g, o, c, static_cast<const double*>(data), type);
   };
   if (p_tot > 0) {  // none at all (a moss population that died out): no /points datasets
-    write_rows("/points/position", head(d.positions, no, 3).data(), 3, p_off, p_tot, no);
+    // The owned points are the first `no` rows of each array (the ghost copies follow).
+    write_rows("/points/position", d.positions.data(), 3, p_off, p_tot, no);
     write_rows("/points/id", d.ids.data(), 1, p_off, p_tot, no, H5T_NATIVE_UINT64);
     for (const auto& [name, v] : d.scalars)
-      write_rows("/points/" + name, head(v, no, 1).data(), 1, p_off, p_tot, no);
+      write_rows("/points/" + name, v.data(), 1, p_off, p_tot, no);
     for (const auto& [name, v] : d.vectors)
-      write_rows("/points/" + name, head(v, no, 3).data(), 3, p_off, p_tot, no);
+      write_rows("/points/" + name, v.data(), 3, p_off, p_tot, no);
   }
   if (l_tot > 0) {  // a zero-size global dataset cannot be written (point clouds have no lines)
     std::vector<double> lpos(6 * nl);

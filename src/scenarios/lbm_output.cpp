@@ -17,20 +17,29 @@ void add_lbm_fields(io::OutputStep& out, const solvers::lbm::LbmSolver& lbm) {
   const auto& u = lbm.velocity();
   const auto& rho = lbm.density();
   const auto& units = lbm.units();
-  std::vector<double> vel, dens, pres;
-  vel.reserve(3 * n.product());
-  dens.reserve(n.product());
-  pres.reserve(n.product());
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) {
-        for (int c = 0; c < 3; ++c) vel.push_back(units.velocity_to_si(u(i, j, k, c)));
-        dens.push_back(units.density_to_si(rho(i, j, k)));
-        pres.push_back(units.pressure_to_si(rho(i, j, k)));
-      }
-  out.add_vector("velocity", std::move(vel), "m/s");
-  out.add_scalar("density", std::move(dens), "kg/m^3");
-  out.add_scalar("pressure", std::move(pres), "Pa");
+  // One array at a time: each is handed over (and reduced to output.region / output.stride)
+  // before the next is built, so a large grid holds at most one unselected array.
+  auto owned_cells = [&](int ncomp, auto&& value) {
+    std::vector<double> a;
+    a.reserve(static_cast<std::size_t>(ncomp * n.product()));
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i)
+          for (int c = 0; c < ncomp; ++c) a.push_back(value(i, j, k, c));
+    return a;
+  };
+  out.add_vector("velocity",
+                 owned_cells(3, [&](int i, int j, int k,
+                                    int c) { return units.velocity_to_si(u(i, j, k, c)); }),
+                 "m/s");
+  out.add_scalar(
+      "density",
+      owned_cells(1, [&](int i, int j, int k, int) { return units.density_to_si(rho(i, j, k)); }),
+      "kg/m^3");
+  out.add_scalar(
+      "pressure",
+      owned_cells(1, [&](int i, int j, int k, int) { return units.pressure_to_si(rho(i, j, k)); }),
+      "Pa");
 }
 
 }  // namespace biota::scenarios

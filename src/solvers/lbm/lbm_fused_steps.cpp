@@ -32,7 +32,7 @@ void LbmSolver::advance(int steps, PairMode mode) {
   if (s < steps) step(false);
 }
 
-void LbmSolver::build_fused_plans() {
+void LbmSolver::build_fused_plans(const std::vector<Link>& links) {
   // Why the order of fused_step_pair() gives the bits of two sequential steps (k: z plane):
   //  - the neighbour step of plane k reads and writes only planes k-1..k+1, so once it has passed
   //    plane k+1, no later neighbour-step cell touches plane k;
@@ -71,7 +71,7 @@ void LbmSolver::build_fused_plans() {
   local_plan_after_fold_ = {};
   // The same entries as plans_[1], split by their target cell x (links come cell by cell, so each
   // part keeps the pressure links of a cell consecutive).
-  for (const Link& l : links_) {
+  for (const Link& l : links) {
     const Index3 x = coords(l.x);
     const bool later = deferred(x);
     // Free slip whose mirror cell is a ghost: its value arrives with the fold.

@@ -197,7 +197,7 @@ class LbmSolver {
     std::vector<Pressure> pressure;  ///< consecutive per cell
   };
   void build_links();
-  void build_plans();
+  void build_plans(const std::vector<Link>& links);
   /// \brief Append link `l` to `plan` for the step from the post (`streamed` false) or the
   /// streamed state.
   void add_link(BoundaryPlan& plan, const Link& l, bool streamed) const;
@@ -219,7 +219,7 @@ class LbmSolver {
   /// \brief The local-step links split for fused_step_pair() by the z plane of the cell they
   /// feed, apart those feeding the first/last layer along an axis with neighbours (the ghost fold
   /// writes there, so their values are staged and stored after it).
-  void build_fused_plans();
+  void build_fused_plans(const std::vector<Link>& links);
   bool fused_ = false;  ///< fusion possible on this rank grid
   /// Fused pairs or single steps (advance(), PairMode::kAuto): the first trial after two warm-up
   /// pairs, four pairs each way, again every 500 pairs.
@@ -261,7 +261,6 @@ class LbmSolver {
   void update_force_spans();
   std::unique_ptr<grid::HaloExchange> halo_, halo_u_;  ///< before a neighbour step; velocity
   std::unique_ptr<grid::GhostFold> fold_;              ///< after a neighbour step
-  std::vector<Link> links_;
   BoundaryPlan plans_[2];  ///< [streamed_]; with overlap_, [0] holds the links not in late_plan_
   /// Overlap of the neighbour step's communication with its sweep, when exactly one axis (y or z)
   /// has neighbours: the neighbour-step links that touch that axis's ghost layers (applied after
