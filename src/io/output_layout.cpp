@@ -69,8 +69,9 @@ void declare_output_layout_config(core::ConfigSchema& s) {
             "HDF5 chunk edge of grid field datasets in output cells (0: contiguous; chunks are "
             "needed for compression)");
   s.add_int("output.compression", 0, 0, 9,
-            "deflate level of grid field datasets (HDF5, with shuffle; VTK pieces zlib) "
-            "0: none. Parallel HDF5 >= 1.10.2 (collective filtered writes)");
+            "deflate level of grid field datasets (HDF5, with shuffle; VTK pieces zlib) and of "
+            "the particles' VTK pieces; 0: none. Parallel HDF5 >= 1.10.2 (collective filtered "
+            "writes)");
 }
 
 namespace {

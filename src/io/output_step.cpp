@@ -155,18 +155,7 @@ void OutputStep::write() {
     }
     vtkNew<vtkXMLImageDataWriter> writer;
     writer->SetInputData(image);
-    writer->SetFileName((vtk_dir / piece).string().c_str());
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();
-    writer->SetHeaderTypeToUInt64();  // 32-bit headers cap an appended array at 4 GiB
-    writer->SetIdTypeToInt64();
-    if (layout_.compression > 0) {
-      writer->SetCompressorTypeToZLib();
-      writer->SetCompressionLevel(layout_.compression);
-    } else {
-      writer->SetCompressorTypeToNone();
-    }
-    write_vtk_checked(*writer, (vtk_dir / piece).string());
+    write_vtk_checked(*writer, (vtk_dir / piece).string(), layout_.compression);
   });
   // The index files, rank 0.
   run_agreed(decomp_.comm(), decomp_.rank() == 0, [&] { write_indexes(stem, n, origin, spacing); });

@@ -62,7 +62,7 @@ void check_sizes(const ParticleData& d) {
 }
 
 // The surface as VTK PolyData (triangles, cell scalars); rank 0.
-void write_surface_vtp(const SurfaceData& t, const std::string& path) {
+void write_surface_vtp(const SurfaceData& t, const std::string& path, int compression) {
   vtkNew<vtkPolyData> poly;
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
@@ -89,22 +89,20 @@ void write_surface_vtp(const SurfaceData& t, const std::string& path) {
   }
   vtkNew<vtkXMLPolyDataWriter> writer;
   writer->SetInputData(poly);
-  writer->SetFileName(path.c_str());
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  write_vtk_checked(*writer, path);
+  write_vtk_checked(*writer, path, compression);
 }
 
 }  // namespace
 
 ParticleOutput::ParticleOutput(MPI_Comm comm, std::string dir, std::string prefix, long long step,
-                               double time, std::string effective_config)
+                               double time, std::string effective_config, int vtk_compression)
     : comm_(comm),
       dir_(std::move(dir)),
       prefix_(std::move(prefix)),
       step_(step),
       time_(time),
-      config_(std::move(effective_config)) {}
+      config_(std::move(effective_config)),
+      vtk_compression_(vtk_compression) {}
 
 void ParticleOutput::write(const ParticleData& d) {
   check_sizes(d);
@@ -234,10 +232,7 @@ void ParticleOutput::write(const ParticleData& d) {
     }
     vtkNew<vtkXMLPolyDataWriter> writer;
     writer->SetInputData(poly);
-    writer->SetFileName((vtk_dir / piece).string().c_str());
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();
-    write_vtk_checked(*writer, (vtk_dir / piece).string());
+    write_vtk_checked(*writer, (vtk_dir / piece).string(), vtk_compression_);
   });
 
   // ---------------- .pvtp index, .pvd series, XDMF (rank 0).
@@ -276,7 +271,7 @@ void ParticleOutput::write_indexes(const ParticleData& d, const std::string& ste
   }
   update_pvd((fs::path(dir_) / (prefix_ + ".pvd")).string(), step_, time_, "vtk/" + stem + ".pvtp");
   if (st_tot > 0) {
-    write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string());
+    write_surface_vtp(surf, (vtk_dir / (stem + "_surface.vtp")).string(), vtk_compression_);
     update_pvd((fs::path(dir_) / (prefix_ + "_surface.pvd")).string(), step_, time_,
                "vtk/" + stem + "_surface.vtp");
   }

@@ -44,8 +44,9 @@ struct ParticleData {
 /// \brief Writes one particle output step. Collective over `comm`.
 class ParticleOutput {
  public:
+  /// `vtk_compression`: zlib level of the VTK pieces (output.compression; 0: none).
   ParticleOutput(MPI_Comm comm, std::string dir, std::string prefix, long long step, double time,
-                 std::string effective_config);
+                 std::string effective_config, int vtk_compression);
   /// \brief Write VTK (.vtp/.pvtp/.pvd) and HDF5 <dir>/<prefix>_<step>.h5 (+ .xmf).
   void write(const ParticleData& data);
 
@@ -62,6 +63,7 @@ class ParticleOutput {
   long long step_;
   double time_;
   std::string config_;
+  int vtk_compression_;
 };
 
 }  // namespace biota::io

@@ -188,7 +188,18 @@ void agree_on_error(MPI_Comm comm, std::exception_ptr error) {
   throw std::runtime_error(message);
 }
 
-void write_vtk_checked(vtkXMLWriter& writer, const std::string& path) {
+void write_vtk_checked(vtkXMLWriter& writer, const std::string& path, int compression) {
+  writer.SetFileName(path.c_str());
+  writer.SetDataModeToAppended();
+  writer.EncodeAppendedDataOff();
+  writer.SetHeaderTypeToUInt64();  // 32-bit headers cap an appended array at 4 GiB
+  writer.SetIdTypeToInt64();
+  if (compression > 0) {
+    writer.SetCompressorTypeToZLib();
+    writer.SetCompressionLevel(compression);
+  } else {
+    writer.SetCompressorTypeToNone();
+  }
   if (writer.Write()) return;
   std::error_code ec;
   fs::remove(path, ec);

@@ -80,9 +80,10 @@ class WriteFile {
 /// std::runtime_error naming the file and the free space if it cannot. One rank.
 void write_text_file(const std::string& path, const std::string& content);
 
-/// \brief Run a VTK XML writer set up for `path`; if it fails, remove what it wrote and throw
-/// std::runtime_error naming the file and the free space. One rank.
-void write_vtk_checked(vtkXMLWriter& writer, const std::string& path);
+/// \brief Write the input of a VTK XML writer to `path`: appended raw binary, 64-bit headers and
+/// ids, zlib at `compression` (1-9; 0: none, not VTK's default zlib). If it fails, remove what it
+/// wrote and throw std::runtime_error naming the file and the free space. One rank.
+void write_vtk_checked(vtkXMLWriter& writer, const std::string& path, int compression);
 
 /// \brief Collective: throws on every rank, with the message of the lowest rank whose `error` is
 /// set, if any rank's is.

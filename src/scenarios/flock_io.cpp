@@ -61,7 +61,7 @@ void FlockScenario::write_output() {
                {"speed", std::move(speed)}};
   d.vectors = {{"velocity", std::move(vel)}};
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "flock_boids", step_, time(),
-                         ctx_.config.effective_toml());
+                         ctx_.config.effective_toml(), out_layout_.compression);
   out.write(d);
   // Sandpile lattice (replicated) written through its own L^3 decomposition, one unit per site,
   // by the ranks of lattice_comm_ only.

@@ -12,6 +12,7 @@
 #include "core/allgather.hpp"
 #include "core/error.hpp"
 #include "core/memory.hpp"
+#include "io/output_layout.hpp"
 #include "models/moss/life_cycle.hpp"
 #include "models/moss/soil_depth.hpp"
 
@@ -57,6 +58,10 @@ MossScenario::~MossScenario() = default;
 MossScenario::MossScenario(const RunContext& ctx) : ctx_(ctx) {
   const auto& c = ctx.config;
   seed_ = static_cast<std::uint64_t>(c.get_int("seed"));
+  vtk_compression_ =
+      io::output_layout_whole(
+          c, "applies to grid fields (tank, seaweed, wind); the moss writes no grid fields")
+          .compression;
   load_terrain();
   weather_.temperature = c.get_real("moss.weather.temperature");
   weather_.humidity = c.get_real("moss.weather.humidity");

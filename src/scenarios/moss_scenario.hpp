@@ -109,6 +109,7 @@ class MossScenario : public Scenario {
   RunContext ctx_;
   std::uint64_t seed_ = 0;
   long long day_ = 0;
+  int vtk_compression_ = 0;  ///< output.compression of the VTK pieces
   // Terrain, replicated.
   io::TerrainMesh mesh_;
   std::vector<models::moss::Vec3> centroid_, normal_;

@@ -100,7 +100,7 @@ void MossScenario::write_output() {
       t.cell_scalars.push_back({name, {}});
   }
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "moss", day_, time(),
-                         ctx_.config.effective_toml());
+                         ctx_.config.effective_toml(), vtk_compression_);
   out.write(d);
 }
 

@@ -419,7 +419,7 @@ void SeaweedScenario::write_particles() {
   d.line_scalars = {{"joint_force", std::move(line_force)},
                     {"joint_torque", std::move(line_torque)}};
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "seaweed_particles", step_, time(),
-                         ctx_.config.effective_toml());
+                         ctx_.config.effective_toml(), out_layout_.compression);
   out.write(d);
 }
 

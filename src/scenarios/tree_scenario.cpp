@@ -469,7 +469,7 @@ void TreeScenario::write_output() {
       {"radius", std::move(radius)}, {"tree", std::move(tree)}, {"displacement", std::move(disp)}};
   d.vectors = {{"velocity", std::move(vel)}};
   io::ParticleOutput out(ctx_.comm, ctx_.output_dir, "tree_nodes", step_, time(),
-                         ctx_.config.effective_toml());
+                         ctx_.config.effective_toml(), out_layout_.compression);
   out.write(d);
 }
 

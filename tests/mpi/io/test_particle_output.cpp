@@ -63,7 +63,7 @@ TEST(ParticleOutput, HdfReadBackHasEveryParticleOnce) {
   d.scalars = {{"mass", mass}};
   d.vectors = {{"velocity", vel}};
   d.line_scalars = {{"child", lscal}};
-  io::ParticleOutput(MPI_COMM_WORLD, dir.string(), "parts", 7, 0.5, "a = 1").write(d);
+  io::ParticleOutput(MPI_COMM_WORLD, dir.string(), "parts", 7, 0.5, "a = 1", 0).write(d);
 
   // Read back (every rank reads everything).
   hid_t f = io::h5::open_parallel((dir / "parts_000007.h5").string(), MPI_COMM_WORLD);
@@ -146,7 +146,7 @@ TEST(ParticleOutput, SurfaceFromRankZeroInTheSameStep) {
   } else {
     d.surface.cell_scalars = {{"S", {}}};
   }
-  io::ParticleOutput out(MPI_COMM_WORLD, dir.string(), "surf", 3, 1.5, "cfg");
+  io::ParticleOutput out(MPI_COMM_WORLD, dir.string(), "surf", 3, 1.5, "cfg", 0);
   out.write(d);
   MPI_Barrier(MPI_COMM_WORLD);
   hid_t f = io::h5::open_parallel((dir / "surf_000003.h5").string(), MPI_COMM_WORLD);
