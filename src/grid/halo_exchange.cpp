@@ -88,17 +88,21 @@ HaloExchange::HaloExchange(const Decomposition& decomp, Field<core::Real>& field
       p.recv[side].resize(layer * faces_[axis][side].size());
       p.send[side].resize(layer * faces_[axis][1 - side].size());
     }
-    const int tag = 100 + axis * 4;
-    MPI_Comm comm = decomp.comm();
     if (decomp.neighbor(axis, 0) != MPI_PROC_NULL || decomp.neighbor(axis, 1) != MPI_PROC_NULL)
       overlap_axis_ = axis;
-    for (int side = 0; side < 2; ++side) {
-      int nb = decomp.neighbor(axis, side);
-      MPI_Recv_init(p.recv[side].data(), static_cast<int>(p.recv[side].size()), MPI_DOUBLE, nb,
-                    tag + (1 - side), comm, &p.requests[side]);
-      MPI_Send_init(p.send[side].data(), static_cast<int>(p.send[side].size()), MPI_DOUBLE, nb,
-                    tag + side, comm, &p.requests[2 + side]);
-    }
+    init_requests(axis, p.send, p.recv, 100 + axis * 4, p.requests);
+  }
+}
+
+void HaloExchange::init_requests(int axis, Buffers& send, Buffers& recv, int tag,
+                                 std::array<MPI_Request, 4>& requests) {
+  // [side] receives, then [2 + side] sends; a message crossing side s carries tag + s.
+  for (int side = 0; side < 2; ++side) {
+    const int nb = decomp_.neighbor(axis, side);
+    MPI_Recv_init(recv[side].data(), static_cast<int>(recv[side].size()), MPI_DOUBLE, nb,
+                  tag + (1 - side), decomp_.comm(), &requests[side]);
+    MPI_Send_init(send[side].data(), static_cast<int>(send[side].size()), MPI_DOUBLE, nb,
+                  tag + side, decomp_.comm(), &requests[2 + side]);
   }
 }
 
@@ -106,22 +110,15 @@ void HaloExchange::init_reverse() {
   // Made on the first reverse_sum: most fields never fold their ghosts back, and these buffers
   // carry every component (an LBM's 19 populations, not the 5 that cross a face).
   reverse_ready_ = true;
-  MPI_Comm comm = decomp_.comm();
   for (int axis = 0; axis < 3; ++axis) {
     Pass& p = passes_[axis];
     const long long layer = slab_cells(axis);
-    const int tag = 100 + axis * 4;
     for (int side = 0; side < 2; ++side) {
-      const int nb = decomp_.neighbor(axis, side);
-      if (nb != MPI_PROC_NULL) {
-        p.rsend[side].resize(layer * field_->ncomp());
-        p.rrecv[side].resize(layer * field_->ncomp());
-      }
-      MPI_Recv_init(p.rrecv[side].data(), static_cast<int>(p.rrecv[side].size()), MPI_DOUBLE, nb,
-                    tag + 2 + (1 - side), comm, &p.rrequests[side]);
-      MPI_Send_init(p.rsend[side].data(), static_cast<int>(p.rsend[side].size()), MPI_DOUBLE, nb,
-                    tag + 2 + side, comm, &p.rrequests[2 + side]);
+      if (decomp_.neighbor(axis, side) == MPI_PROC_NULL) continue;
+      p.rsend[side].resize(layer * field_->ncomp());
+      p.rrecv[side].resize(layer * field_->ncomp());
     }
+    init_requests(axis, p.rsend, p.rrecv, 100 + axis * 4 + 2, p.rrequests);
   }
 }
 

@@ -63,12 +63,13 @@ class HaloExchange {
   const core::CommCounter& sent() const { return sent_; }
 
  private:
+  using Buffers = std::array<std::vector<core::Real>, 2>;  ///< [side]
   struct Pass {
     // side s: send buffer holds my layer adjacent to face s; recv buffer fills ghosts at side s.
-    std::array<std::vector<core::Real>, 2> send, recv;
+    Buffers send, recv;
     std::array<MPI_Request, 4> requests{MPI_REQUEST_NULL, MPI_REQUEST_NULL, MPI_REQUEST_NULL,
                                         MPI_REQUEST_NULL};
-    std::array<std::vector<core::Real>, 2> rsend, rrecv;
+    Buffers rsend, rrecv;
     std::array<MPI_Request, 4> rrequests{MPI_REQUEST_NULL, MPI_REQUEST_NULL, MPI_REQUEST_NULL,
                                          MPI_REQUEST_NULL};
   };
@@ -81,6 +82,9 @@ class HaloExchange {
   void for_slab(int axis, int start, const std::vector<int>& comps, F&& f);
   void start_pass(int axis);
   void finish_pass(int axis);
+  // Persistent requests of one pass's buffers (empty on a side without a neighbour).
+  void init_requests(int axis, Buffers& send, Buffers& recv, int tag,
+                     std::array<MPI_Request, 4>& requests);
   void init_reverse();
 
   const Decomposition& decomp_;

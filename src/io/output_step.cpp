@@ -35,16 +35,19 @@ OutputStep::OutputStep(const grid::Decomposition& decomp, std::string dir, std::
 
 void OutputStep::add_scalar(const std::string& name, std::vector<double> values,
                             const std::string& unit) {
-  if (static_cast<long long>(values.size()) != decomp_.local_cells().product())
-    throw std::logic_error("OutputStep::add_scalar: wrong size for " + name);
-  arrays_.emplace_back(name, Array{select(std::move(values), 1), 1, unit});
+  add(name, std::move(values), 1, unit);
 }
 
 void OutputStep::add_vector(const std::string& name, std::vector<double> values,
                             const std::string& unit) {
-  if (static_cast<long long>(values.size()) != 3 * decomp_.local_cells().product())
-    throw std::logic_error("OutputStep::add_vector: wrong size for " + name);
-  arrays_.emplace_back(name, Array{select(std::move(values), 3), 3, unit});
+  add(name, std::move(values), 3, unit);
+}
+
+void OutputStep::add(const std::string& name, std::vector<double> values, int ncomp,
+                     const std::string& unit) {
+  if (static_cast<long long>(values.size()) != ncomp * decomp_.local_cells().product())
+    throw std::logic_error("OutputStep: wrong size for " + name);
+  arrays_.emplace_back(name, Array{select(std::move(values), ncomp), ncomp, unit});
 }
 
 std::vector<double> OutputStep::select(std::vector<double> local, int ncomp) const {

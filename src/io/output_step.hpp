@@ -39,6 +39,7 @@ class OutputStep {
     int ncomp;
     std::string unit;
   };
+  void add(const std::string& name, std::vector<double> values, int ncomp, const std::string& unit);
   /// \brief The selected cells of a local owned-cell array (x fastest, `ncomp` interleaved);
   /// `local` itself when every cell is selected. Applied as an array is added, so that a step
   /// with output.stride or output.region keeps only the selection.
